@@ -1,0 +1,48 @@
+#pragma once
+// Rotation conventions. All angles here are radians; configs carry degrees (`_deg`).
+//
+// Elementary rotations are active and right-handed: RotationZ(a) turns +X towards +Y.
+//
+// Omega-phi-kappa (photogrammetric, e.g. Kraus): R = Rx(omega) * Ry(phi) * Rz(kappa).
+// Used for small mounting angles and relative orientations; R maps the rotated frame's
+// vectors into the reference frame (reference_from_rotated).
+//
+// Azimuth-elevation-roll of seed 004 (Wu 2009, eqs. 2-3): M = m_kappa * m_phi * m_theta,
+// camera_from_world in its collinearity x = dx - c (m1 . dX) / (m3 . dX). We implement the
+// explicit elements of its eq. 3b. Note that eq. 3b equals Rz(-kappa) Rx(phi) Ry(-theta):
+// the m_theta printed as eq. 2a has the opposite sign of theta; 3b is what the collinearity
+// uses, so 3b is the definition here (tested element by element).
+#include <Eigen/Core>
+
+namespace ts {
+
+Eigen::Matrix3d RotationX(double angle_rad);
+Eigen::Matrix3d RotationY(double angle_rad);
+Eigen::Matrix3d RotationZ(double angle_rad);
+
+struct Opk {
+  double omega_rad = 0.0;
+  double phi_rad = 0.0;
+  double kappa_rad = 0.0;
+};
+
+Eigen::Matrix3d RotationFromOpk(const Opk& opk);
+// Inverse of RotationFromOpk for phi in [-pi/2, pi/2]. At gimbal lock (|phi| = pi/2)
+// kappa is set to 0 and the whole rotation about the common axis goes into omega.
+Opk OpkFromRotation(const Eigen::Matrix3d& rotation);
+
+struct AzElRoll {
+  double azimuth_rad = 0.0;    // theta: about the vertical axis, to the right positive
+  double elevation_rad = 0.0;  // phi: about the horizontal axis, upward positive
+  double roll_rad = 0.0;       // kappa: about the viewing axis, counter-clockwise positive
+};
+
+// Seed 004 eq. 3b.
+Eigen::Matrix3d RotationFromAzElRoll(const AzElRoll& angles);
+// Inverse for elevation in [-pi/2, pi/2]; at gimbal lock roll is set to 0.
+AzElRoll AzElRollFromRotation(const Eigen::Matrix3d& rotation);
+
+double DegFromRad(double rad);
+double RadFromDeg(double deg);
+
+}  // namespace ts

@@ -1,0 +1,77 @@
+#include "processing/io/atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace ts {
+namespace {
+
+std::string ErrnoText(const std::string& path, const char* what) {
+  return path + ": " + what + ": " + std::strerror(errno);
+}
+
+bool WriteAll(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<size_t>(n));
+  }
+  return true;
+}
+
+Status FsyncDirectory(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return Error{ErrnoText(dir.string(), "cannot open folder")};
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) return Error{ErrnoText(dir.string(), "cannot fsync folder")};
+  return {};
+}
+
+}  // namespace
+
+bool IsTemporaryName(const std::string& file_name) {
+  return file_name.find(".tmp-") != std::string::npos;
+}
+
+Status WriteFileAtomically(const std::string& path, std::string_view bytes) {
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path final_path(path);
+  const std::string tmp =
+      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return Error{ErrnoText(path, "cannot create")};
+  if (!WriteAll(fd, bytes) || ::fsync(fd) != 0) {
+    const std::string err = ErrnoText(path, "cannot write");
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return Error{err};
+  }
+  if (::close(fd) != 0 || ::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string err = ErrnoText(path, "cannot rename into place");
+    ::unlink(tmp.c_str());
+    return Error{err};
+  }
+  return FsyncDirectory(final_path.parent_path());
+}
+
+Result<std::string> ReadWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path + ": cannot read file"};
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) return Error{path + ": read error"};
+  return buffer.str();
+}
+
+}  // namespace ts

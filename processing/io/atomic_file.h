@@ -1,0 +1,17 @@
+#pragma once
+// Crash-safe file output: every file of a station directory is written to a temporary name
+// in the same folder, fsync'd, renamed over the final name, and the folder fsync'd, so a
+// power cut or kill -9 leaves either the old file or the complete new one, never a torn one.
+#include <string>
+#include <string_view>
+
+#include "processing/common/result.h"
+
+namespace ts {
+
+Status WriteFileAtomically(const std::string& path, std::string_view bytes);
+Result<std::string> ReadWholeFile(const std::string& path);
+// Temporary names look like "<name>.tmp-<pid>-<n>"; a crashed writer may leave one behind.
+bool IsTemporaryName(const std::string& file_name);
+
+}  // namespace ts

@@ -1,0 +1,178 @@
+#include "processing/io/calibration_yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include "processing/geometry/rotation.h"
+#include "processing/io/atomic_file.h"
+
+namespace ts {
+namespace {
+
+Eigen::Matrix3d RotationFromOpkDeg(const Eigen::Vector3d& deg) {
+  return RotationFromOpk({RadFromDeg(deg.x()), RadFromDeg(deg.y()), RadFromDeg(deg.z())});
+}
+
+Eigen::Vector3d OpkDegFromRotation(const Eigen::Matrix3d& r) {
+  const Opk opk = OpkFromRotation(r);
+  return {DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad), DegFromRad(opk.kappa_rad)};
+}
+
+CameraIntrinsics ParseCamera(YamlMap m) {
+  m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
+                         "principal_distance_mm", "principal_point_px", "distortion", "affinity"});
+  CameraIntrinsics c;
+  c.width_px = m.Int("width_px", 1, 100000);
+  c.height_px = m.Int("height_px", 1, 100000);
+  c.pixel_size_um = m.Double("pixel_size_um", 0.0);
+  if (c.pixel_size_um < 0.0) m.Fail("pixel_size_um", "must not be negative");
+  const bool px = m.Has("principal_distance_px"), mm = m.Has("principal_distance_mm");
+  if (px == mm) m.Fail("principal_distance_px", "give exactly one of _px and _mm");
+  if (px) {
+    c.principal_distance_px = m.PositiveDouble("principal_distance_px");
+  } else {
+    if (!(c.pixel_size_um > 0.0))
+      m.Fail("principal_distance_mm", "needs pixel_size_um to convert to pixels");
+    c.principal_distance_px = m.PositiveDouble("principal_distance_mm") * 1000.0 / c.pixel_size_um;
+  }
+  if (m.Has("principal_point_px")) {
+    const auto pp = m.Doubles("principal_point_px", 2);
+    c.principal_point_x_px = pp[0];
+    c.principal_point_y_px = pp[1];
+  } else {
+    c.principal_point_x_px = 0.5 * (c.width_px - 1);
+    c.principal_point_y_px = 0.5 * (c.height_px - 1);
+  }
+  if (m.Has("distortion")) {
+    YamlMap d = m.Map("distortion");
+    c.k1 = d.Double("k1", 0.0);
+    c.k2 = d.Double("k2", 0.0);
+    c.k3 = d.Double("k3", 0.0);
+    c.p1 = d.Double("p1", 0.0);
+    c.p2 = d.Double("p2", 0.0);
+    d.RejectUnknownKeys();
+  }
+  if (m.Has("affinity")) {
+    YamlMap a = m.Map("affinity");
+    c.scale_x = a.Double("scale_x", 0.0);
+    c.shear = a.Double("shear", 0.0);
+    a.RejectUnknownKeys();
+  }
+  m.RejectUnknownKeys();
+  std::string why;
+  if (!c.Check(&why)) throw ConfigError(m.path() + ": " + why);
+  return c;
+}
+
+StageKinematics ParseStage(YamlMap m) {
+  StageKinematics s;
+  s.height_above_mark_m = m.Double("height_above_mark_m", 0.0);
+  if (s.height_above_mark_m < 0.0) m.Fail("height_above_mark_m", "must not be negative");
+  if (m.Has("levelling_deg")) {
+    const auto l = m.Doubles("levelling_deg", 2);
+    s.levelling_x_deg = l[0];
+    s.levelling_y_deg = l[1];
+  }
+  s.pan_zero_deg = m.Double("pan_zero_deg", 0.0);
+  s.tilt_zero_deg = m.Double("tilt_zero_deg", 0.0);
+  s.tilt_axis_offset_m = m.Vector3("tilt_axis_offset_m", Eigen::Vector3d::Zero());
+  s.tilt_axis_skew_deg = m.Double("tilt_axis_skew_deg", 0.0);
+  s.rig_offset_m = m.Vector3("rig_offset_m", Eigen::Vector3d::Zero());
+  s.rig_rotation_opk_deg = m.Vector3("rig_rotation_opk_deg", Eigen::Vector3d::Zero());
+  m.RejectUnknownKeys();
+  std::string why;
+  if (!s.Check(&why)) throw ConfigError(m.path() + ": " + why);
+  return s;
+}
+
+}  // namespace
+
+Calibration ParseCalibration(YamlMap root) {
+  const int version = root.Int("schema_version", 0, 1000000);
+  if (version != kCalibrationSchemaVersion)
+    root.Fail("schema_version", "unsupported version " + std::to_string(version) +
+                                    " (this build reads " +
+                                    std::to_string(kCalibrationSchemaVersion) + ")");
+  Calibration cal;
+  YamlMap cameras = root.Map("cameras");
+  cal.rig.left = ParseCamera(cameras.Map("left"));
+  cal.rig.right = ParseCamera(cameras.Map("right"));
+  cameras.RejectUnknownKeys();
+  YamlMap stereo = root.Map("stereo");
+  cal.rig.baseline_m = stereo.PositiveDouble("baseline_m");
+  cal.rig.S_from_left = StereoRig::NominalSFromCamera() *
+                        RotationFromOpkDeg(stereo.Vector3("left_rotation_opk_deg", {0, 0, 0}));
+  cal.rig.left_from_right = RotationFromOpkDeg(stereo.Vector3("right_relative_opk_deg", {0, 0, 0}));
+  stereo.RejectUnknownKeys();
+  if (root.Has("stage")) cal.stage = ParseStage(root.Map("stage"));
+  root.RejectUnknownKeys();
+  return cal;
+}
+
+Result<Calibration> LoadCalibrationYaml(const std::string& file) {
+  try {
+    return ParseCalibration(YamlMap(LoadYamlFile(file), ""));
+  } catch (const ConfigError& e) {
+    return Error{file + ": " + e.what()};
+  }
+}
+
+namespace {
+void EmitVector(YAML::Emitter& out, const char* key, const Eigen::Vector3d& v) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq << v.x() << v.y() << v.z()
+      << YAML::EndSeq;
+}
+
+void EmitCamera(YAML::Emitter& out, const char* name, const CameraIntrinsics& c) {
+  out << YAML::Key << name << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "width_px" << YAML::Value << c.width_px;
+  out << YAML::Key << "height_px" << YAML::Value << c.height_px;
+  out << YAML::Key << "pixel_size_um" << YAML::Value << c.pixel_size_um;
+  out << YAML::Key << "principal_distance_px" << YAML::Value << c.principal_distance_px;
+  out << YAML::Key << "principal_point_px" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << c.principal_point_x_px << c.principal_point_y_px << YAML::EndSeq;
+  out << YAML::Key << "distortion" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "k1" << YAML::Value << c.k1 << YAML::Key << "k2" << YAML::Value << c.k2;
+  out << YAML::Key << "k3" << YAML::Value << c.k3 << YAML::Key << "p1" << YAML::Value << c.p1;
+  out << YAML::Key << "p2" << YAML::Value << c.p2 << YAML::EndMap;
+  out << YAML::Key << "affinity" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "scale_x" << YAML::Value << c.scale_x;
+  out << YAML::Key << "shear" << YAML::Value << c.shear << YAML::EndMap;
+  out << YAML::EndMap;
+}
+}  // namespace
+
+std::string CalibrationToYaml(const Calibration& cal) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
+  out << YAML::Key << "cameras" << YAML::Value << YAML::BeginMap;
+  EmitCamera(out, "left", cal.rig.left);
+  EmitCamera(out, "right", cal.rig.right);
+  out << YAML::EndMap;
+  out << YAML::Key << "stereo" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "baseline_m" << YAML::Value << cal.rig.baseline_m;
+  EmitVector(out, "left_rotation_opk_deg",
+             OpkDegFromRotation(StereoRig::NominalSFromCamera().transpose() * cal.rig.S_from_left));
+  EmitVector(out, "right_relative_opk_deg", OpkDegFromRotation(cal.rig.left_from_right));
+  out << YAML::EndMap;
+  const StageKinematics& s = cal.stage;
+  out << YAML::Key << "stage" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "height_above_mark_m" << YAML::Value << s.height_above_mark_m;
+  out << YAML::Key << "levelling_deg" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << s.levelling_x_deg << s.levelling_y_deg << YAML::EndSeq;
+  out << YAML::Key << "pan_zero_deg" << YAML::Value << s.pan_zero_deg;
+  out << YAML::Key << "tilt_zero_deg" << YAML::Value << s.tilt_zero_deg;
+  EmitVector(out, "tilt_axis_offset_m", s.tilt_axis_offset_m);
+  out << YAML::Key << "tilt_axis_skew_deg" << YAML::Value << s.tilt_axis_skew_deg;
+  EmitVector(out, "rig_offset_m", s.rig_offset_m);
+  EmitVector(out, "rig_rotation_opk_deg", s.rig_rotation_opk_deg);
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+Status SaveCalibrationYaml(const Calibration& calibration, const std::string& file) {
+  return WriteFileAtomically(file, CalibrationToYaml(calibration));
+}
+
+}  // namespace ts

@@ -1,0 +1,48 @@
+#pragma once
+// calibration.yaml: the stereo rig and stage kinematics, the file `process --calibration`
+// reads, the simulator writes as truth, and `calibrate` will write. Schema (version 1):
+//
+//   schema_version: 1
+//   cameras:
+//     left:                           # and right:, same fields
+//       width_px: 1392
+//       height_px: 1040
+//       pixel_size_um: 6.45           # optional, 0 = unknown
+//       principal_distance_px: 1860.5 # or principal_distance_mm (needs pixel_size_um)
+//       principal_point_px: [695.5, 519.5]   # optional, default the image centre
+//       distortion: {k1: 0, k2: 0, k3: 0, p1: 0, p2: 0}   # optional, dimensionless
+//       affinity: {scale_x: 0, shear: 0}                   # optional
+//   stereo:
+//     baseline_m: 0.5
+//     left_rotation_opk_deg: [0, 0, 0]   # R_l relative to a camera looking along +Y_S
+//     right_relative_opk_deg: [0, 0, 0]  # R = left_from_right (seed 003 eq. 2)
+//   stage:                               # optional; every field defaults to the ideal stage
+//     height_above_mark_m: 1.5
+//     levelling_deg: [0, 0]
+//     pan_zero_deg: 0
+//     tilt_zero_deg: 0
+//     tilt_axis_offset_m: [0, 0, 0]
+//     tilt_axis_skew_deg: 0
+//     rig_offset_m: [0, 0, 0]
+//     rig_rotation_opk_deg: [0, 0, 0]
+#include <string>
+
+#include "processing/common/result.h"
+#include "processing/geometry/calibration.h"
+#include "processing/io/yaml_map.h"
+
+namespace ts {
+
+inline constexpr int kCalibrationSchemaVersion = 1;
+
+// Errors: "FILE: field.path: problem".
+Result<Calibration> LoadCalibrationYaml(const std::string& file);
+// Parses a calibration mapping (the document root, or a block inside a rig config).
+// Throws ConfigError with the field path.
+Calibration ParseCalibration(YamlMap map);
+
+std::string CalibrationToYaml(const Calibration& calibration);
+// Written atomically (see atomic_file.h).
+Status SaveCalibrationYaml(const Calibration& calibration, const std::string& file);
+
+}  // namespace ts

@@ -1,0 +1,21 @@
+#pragma once
+// Raw images of a station directory: single-channel PNG, Mono8 (CV_8UC1) or Mono16
+// (CV_16UC1), written atomically with their SHA-256.
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "processing/common/result.h"
+
+namespace ts {
+
+enum class PixelFormat { kMono8, kMono16 };
+const char* PixelFormatName(PixelFormat format);  // "Mono8" / "Mono16" (GenICam names)
+Result<PixelFormat> PixelFormatFromName(const std::string& name);
+
+// Encodes as PNG, writes atomically, returns the SHA-256 of the file's bytes.
+Result<std::string> WritePngAtomically(const cv::Mat& image, const std::string& path);
+// Reads a PNG and checks it is single-channel of the given format and size.
+Result<cv::Mat> ReadMonoPng(const std::string& path, PixelFormat format, int width_px,
+                            int height_px);
+
+}  // namespace ts

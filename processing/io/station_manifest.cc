@@ -1,0 +1,191 @@
+#include "processing/io/station_manifest.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "processing/io/atomic_file.h"
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/json_fields.h"
+
+namespace ts {
+
+using nlohmann::json;
+
+const PairRecord* StationManifest::FindPair(int index) const {
+  for (const PairRecord& p : pairs)
+    if (p.index == index) return &p;
+  return nullptr;
+}
+
+bool StationManifest::Complete() const {
+  for (size_t i = 0; i < plan.size(); ++i)
+    if (!FindPair(static_cast<int>(i))) return false;
+  return true;
+}
+
+std::string StationManifest::ImageFileName(int index, Side side) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "raw/pair_%02d_%s.png", index, SideName(side));
+  return name;
+}
+
+std::string UtcNowIso8601() {
+  const auto now =
+      std::chrono::time_point_cast<std::chrono::milliseconds>(std::chrono::system_clock::now());
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%S", &tm);
+  const auto ms = now.time_since_epoch().count() % 1000;
+  char out[48];
+  std::snprintf(out, sizeof(out), "%s.%03dZ", buf, static_cast<int>(ms));
+  return out;
+}
+
+namespace {
+
+json PoseToJson(const StagePose& p) { return {{"pan_deg", p.pan_deg}, {"tilt_deg", p.tilt_deg}}; }
+
+StagePose PoseFromJson(const JsonObject& o) { return {o.Number("pan_deg"), o.Number("tilt_deg")}; }
+
+json PairToJson(const PairRecord& p) {
+  return {{"index", p.index},
+          {"commanded", PoseToJson(p.commanded)},
+          {"readback", PoseToJson(p.readback)},
+          {"exposure_us", p.exposure_us},
+          {"gain_db", p.gain_db},
+          {"captured_utc", p.captured_utc},
+          {"left_timestamp_ns", p.left_timestamp_ns},
+          {"right_timestamp_ns", p.right_timestamp_ns},
+          {"left", {{"file", p.left.file}, {"sha256", p.left.sha256}}},
+          {"right", {{"file", p.right.file}, {"sha256", p.right.sha256}}}};
+}
+
+ImageRecord ImageFromJson(const JsonObject& o) {
+  ImageRecord r{o.String("file"), o.String("sha256")};
+  const std::filesystem::path file(r.file);
+  if (file.is_absolute() || r.file.find("..") != std::string::npos || !r.file.starts_with("raw/"))
+    o.Fail("file", "must be a relative path inside raw/");
+  if (r.sha256.size() != 64 || r.sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
+    o.Fail("sha256", "must be 64 lower-case hex digits");
+  return r;
+}
+
+PairRecord PairFromJson(const JsonObject& o) {
+  PairRecord p;
+  p.index = o.Int("index", 0, 9999);
+  p.commanded = PoseFromJson(o.Object("commanded"));
+  p.readback = PoseFromJson(o.Object("readback"));
+  p.exposure_us = o.Number("exposure_us");
+  if (!(p.exposure_us > 0.0)) o.Fail("exposure_us", "must be positive");
+  p.gain_db = o.Number("gain_db");
+  p.captured_utc = o.String("captured_utc");
+  p.left_timestamp_ns = o.Int64("left_timestamp_ns");
+  p.right_timestamp_ns = o.Int64("right_timestamp_ns");
+  p.left = ImageFromJson(o.Object("left"));
+  p.right = ImageFromJson(o.Object("right"));
+  return p;
+}
+
+void CheckPairs(const StationManifest& m, const JsonObject& root) {
+  std::set<int> seen;
+  for (size_t i = 0; i < m.pairs.size(); ++i) {
+    const std::string field = "pairs[" + std::to_string(i) + "].index";
+    const int index = m.pairs[i].index;
+    if (index >= static_cast<int>(m.plan.size()))
+      root.Fail(field, "pair " + std::to_string(index) + " is not in the capture plan (" +
+                           std::to_string(m.plan.size()) + " poses)");
+    if (!seen.insert(index).second)
+      root.Fail(field, "pair " + std::to_string(index) + " recorded twice");
+  }
+}
+
+}  // namespace
+
+std::string ManifestToJson(const StationManifest& m) {
+  json plan = json::array();
+  for (const StagePose& p : m.plan) plan.push_back(PoseToJson(p));
+  json pairs = json::array();
+  for (const PairRecord& p : m.pairs) pairs.push_back(PairToJson(p));
+  const json doc = {{"schema", kStationSchemaName},
+                    {"schema_version", m.schema_version},
+                    {"station_id", m.station_id},
+                    {"created_utc", m.created_utc},
+                    {"updated_utc", m.updated_utc},
+                    {"software_version", m.software_version},
+                    {"rig_name", m.rig_name},
+                    {"calibration", JsonFromYaml(YAML::Load(CalibrationToYaml(m.calibration)))},
+                    {"image",
+                     {{"width_px", m.image_width_px},
+                      {"height_px", m.image_height_px},
+                      {"pixel_format", PixelFormatName(m.pixel_format)}}},
+                    {"capture_plan", plan},
+                    {"pairs", pairs}};
+  return doc.dump(2) + "\n";
+}
+
+Result<StationManifest> ManifestFromJson(const std::string& text, const std::string& source) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    return Error{source + ": malformed or truncated JSON at byte " + std::to_string(e.byte)};
+  }
+  try {
+    const JsonObject root(doc, "");
+    if (root.String("schema") != kStationSchemaName)
+      root.Fail("schema", std::string("must be \"") + kStationSchemaName + "\"");
+    StationManifest m;
+    m.schema_version = root.Int("schema_version", 0, 1000000);
+    if (m.schema_version != kStationSchemaVersion)
+      root.Fail("schema_version", "unsupported version " + std::to_string(m.schema_version) +
+                                      " (this build reads " +
+                                      std::to_string(kStationSchemaVersion) + ")");
+    m.station_id = root.String("station_id");
+    m.created_utc = root.String("created_utc");
+    m.updated_utc = root.String("updated_utc");
+    m.software_version = root.String("software_version");
+    m.rig_name = root.String("rig_name");
+    try {
+      m.calibration =
+          ParseCalibration(YamlMap(YAML::Load(root.Object("calibration").Dump()), "calibration"));
+    } catch (const YAML::Exception& e) {
+      root.Fail("calibration", e.what());
+    }
+    const JsonObject image = root.Object("image");
+    m.image_width_px = image.Int("width_px", 1, 100000);
+    m.image_height_px = image.Int("height_px", 1, 100000);
+    const Result<PixelFormat> format = PixelFormatFromName(image.String("pixel_format"));
+    if (!format) image.Fail("pixel_format", format.error());
+    m.pixel_format = *format;
+    for (const JsonObject& pose : root.Array("capture_plan")) m.plan.push_back(PoseFromJson(pose));
+    for (const JsonObject& pair : root.Array("pairs")) m.pairs.push_back(PairFromJson(pair));
+    CheckPairs(m, root);
+    return m;
+  } catch (const ConfigError& e) {
+    return Error{source + ": " + e.what()};
+  }
+}
+
+Result<StationManifest> LoadStationManifest(const std::string& station_dir) {
+  const std::string path = (std::filesystem::path(station_dir) / kManifestFileName).string();
+  if (!std::filesystem::exists(path)) return Error{path + ": missing manifest"};
+  Result<std::string> text = ReadWholeFile(path);
+  if (!text) return Error{text.error()};
+  return ManifestFromJson(*text, path);
+}
+
+Status SaveStationManifest(StationManifest* manifest, const std::string& station_dir) {
+  manifest->updated_utc = UtcNowIso8601();
+  if (manifest->created_utc.empty()) manifest->created_utc = manifest->updated_utc;
+  const std::string path = (std::filesystem::path(station_dir) / kManifestFileName).string();
+  return WriteFileAtomically(path, ManifestToJson(*manifest));
+}
+
+}  // namespace ts

@@ -1,0 +1,78 @@
+#pragma once
+// station.json, the manifest and commit record of a station directory (DESIGN.md "Station
+// directory"). A pair exists when, and only when, its record is in the manifest: images are
+// written first (atomically), then the manifest is rewritten atomically with the new record.
+//
+//   STATION/station.json
+//   STATION/raw/pair_NN_{left,right}.png
+//   STATION/products/...
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "processing/common/result.h"
+#include "processing/geometry/calibration.h"
+#include "processing/io/image_file.h"
+
+namespace ts {
+
+inline constexpr int kStationSchemaVersion = 1;
+inline constexpr const char* kStationSchemaName = "topostation.station";
+inline constexpr const char* kManifestFileName = "station.json";
+
+struct StagePose {
+  double pan_deg = 0.0;
+  double tilt_deg = 0.0;
+};
+
+struct ImageRecord {
+  std::string file;    // relative to the station directory, e.g. "raw/pair_03_left.png"
+  std::string sha256;  // lower-case hex of the file's bytes
+};
+
+struct PairRecord {
+  int index = 0;             // position in the capture plan, 0-based
+  StagePose commanded;       // what the stage was told
+  StagePose readback;        // what its encoders reported when the images were taken
+  double exposure_us = 0.0;  // both cameras (exposure is locked together)
+  double gain_db = 0.0;
+  std::string captured_utc;       // ISO 8601
+  int64_t left_timestamp_ns = 0;  // camera timestamps
+  int64_t right_timestamp_ns = 0;
+  ImageRecord left;
+  ImageRecord right;
+};
+
+struct StationManifest {
+  int schema_version = kStationSchemaVersion;
+  std::string station_id;
+  std::string created_utc;
+  std::string updated_utc;
+  std::string software_version;
+  std::string rig_name;
+  Calibration calibration;      // used for capture, and by default for processing
+  std::vector<StagePose> plan;  // the capture plan, one pose per pair
+  int image_width_px = 0;
+  int image_height_px = 0;
+  PixelFormat pixel_format = PixelFormat::kMono8;
+  std::vector<PairRecord> pairs;  // completed pairs, any order, unique indices
+
+  const PairRecord* FindPair(int index) const;
+  bool Complete() const;  // every pose of the plan has its pair
+  // Canonical file names of pair NN: "raw/pair_NN_left.png".
+  static std::string ImageFileName(int index, Side side);
+};
+
+std::string ManifestToJson(const StationManifest& manifest);
+// Parses and checks structure and values; errors name the field ("pairs[3].left.sha256").
+// source names the file in messages.
+Result<StationManifest> ManifestFromJson(const std::string& text, const std::string& source);
+
+Result<StationManifest> LoadStationManifest(const std::string& station_dir);
+// Atomic. Sets manifest->updated_utc (and created_utc on the first save).
+Status SaveStationManifest(StationManifest* manifest, const std::string& station_dir);
+
+std::string UtcNowIso8601();
+
+}  // namespace ts

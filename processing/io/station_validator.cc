@@ -1,0 +1,53 @@
+#include "processing/io/station_validator.h"
+
+#include <filesystem>
+
+#include "processing/io/sha256.h"
+
+namespace ts {
+namespace {
+
+Status CheckImage(const std::string& station_dir, const StationManifest& m, const ImageRecord& r,
+                  const std::string& field, const StationValidationOptions& options) {
+  const std::string path = (std::filesystem::path(station_dir) / r.file).string();
+  const std::string where = station_dir + "/" + kManifestFileName + ": " + field + ": ";
+  if (!std::filesystem::is_regular_file(path)) return Error{where + "missing image " + path};
+  const Result<std::string> sha = Sha256OfFile(path);
+  if (!sha) return Error{where + sha.error()};
+  if (*sha != r.sha256) return Error{where + "checksum mismatch for " + path};
+  if (options.decode_images) {
+    const Result<cv::Mat> image =
+        ReadMonoPng(path, m.pixel_format, m.image_width_px, m.image_height_px);
+    if (!image) return Error{where + image.error()};
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<StationManifest> ValidateStation(const std::string& station_dir,
+                                        const StationValidationOptions& options) {
+  if (!std::filesystem::is_directory(station_dir))
+    return Error{station_dir + ": not a station directory"};
+  Result<StationManifest> manifest = LoadStationManifest(station_dir);
+  if (!manifest) return manifest;
+  const StationManifest& m = *manifest;
+  for (size_t i = 0; i < m.pairs.size(); ++i) {
+    const PairRecord& pair = m.pairs[i];
+    const std::string field = "pairs[" + std::to_string(i) + "]";
+    if (Status s = CheckImage(station_dir, m, pair.left, field + ".left", options); !s)
+      return Error{s.error()};
+    if (Status s = CheckImage(station_dir, m, pair.right, field + ".right", options); !s)
+      return Error{s.error()};
+  }
+  if (options.require_complete) {
+    for (size_t i = 0; i < m.plan.size(); ++i) {
+      if (!m.FindPair(static_cast<int>(i)))
+        return Error{station_dir + "/" + kManifestFileName + ": pairs: pair " + std::to_string(i) +
+                     " of " + std::to_string(m.plan.size()) + " not captured"};
+    }
+  }
+  return manifest;
+}
+
+}  // namespace ts

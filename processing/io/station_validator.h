@@ -1,0 +1,21 @@
+#pragma once
+// Checks a station directory against its manifest and reports the first problem, naming the
+// file and the field: missing or malformed manifest, wrong schema version, missing image,
+// checksum mismatch, image of the wrong size or pixel format.
+#include <string>
+
+#include "processing/common/result.h"
+#include "processing/io/station_manifest.h"
+
+namespace ts {
+
+struct StationValidationOptions {
+  bool require_complete = false;  // every pose of the capture plan must have its pair
+  bool decode_images = true;      // decode each PNG and check size and format (slower)
+};
+
+// The manifest when everything checks out.
+Result<StationManifest> ValidateStation(const std::string& station_dir,
+                                        const StationValidationOptions& options = {});
+
+}  // namespace ts

@@ -1,0 +1,26 @@
+// topostation: the command line of the appliance (DESIGN.md "Command line").
+// Exit code 0 on success; otherwise one clear line on stderr and a non-zero code.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "station/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"topostation: stereo-panorama DEMs and terrain correction for gravity stations"};
+  app.require_subcommand(1);
+  ts::AddAccuracyCommand(app);
+  ts::AddValidateCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ts::CommandError& e) {
+    std::fprintf(stderr, "topostation: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "topostation: internal error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

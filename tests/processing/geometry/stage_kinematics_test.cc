@@ -1,0 +1,114 @@
+#include "processing/geometry/stage_kinematics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "processing/geometry/calibration.h"
+#include "processing/geometry/rotation.h"
+
+namespace ts {
+namespace {
+
+Eigen::Vector3d Forward(const StageKinematics& s, double pan, double tilt) {
+  return s.LFromS(pan, tilt).linear() * Eigen::Vector3d::UnitY();
+}
+
+TEST(StageKinematics, IdealStageAtZeroIsIdentity) {
+  const StageKinematics s;
+  EXPECT_TRUE(s.LFromS(0, 0).matrix().isApprox(Eigen::Matrix4d::Identity()));
+}
+
+TEST(StageKinematics, PanIsClockwiseFromAbove) {
+  const StageKinematics s;
+  // With L's Y north and X east, pan 90 looks east and pan 180 south.
+  EXPECT_TRUE(Forward(s, 90, 0).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  EXPECT_TRUE(Forward(s, 180, 0).isApprox(-Eigen::Vector3d::UnitY(), 1e-12));
+  const Eigen::Vector3d f = Forward(s, 30, 0);
+  EXPECT_NEAR(f.x(), std::sin(RadFromDeg(30)), 1e-12);
+  EXPECT_NEAR(f.y(), std::cos(RadFromDeg(30)), 1e-12);
+}
+
+TEST(StageKinematics, TiltIsPositiveUpward) {
+  const StageKinematics s;
+  const Eigen::Vector3d f = Forward(s, 0, -20);
+  EXPECT_NEAR(f.z(), -std::sin(RadFromDeg(20)), 1e-12);
+  EXPECT_NEAR(f.y(), std::cos(RadFromDeg(20)), 1e-12);
+  // Tilt keeps the baseline (S's X) horizontal.
+  EXPECT_NEAR((s.LFromS(40, 25).linear() * Eigen::Vector3d::UnitX()).z(), 0.0, 1e-12);
+}
+
+TEST(StageKinematics, EncoderZerosShiftTheReadings) {
+  StageKinematics offset;
+  offset.pan_zero_deg = 12.5;
+  offset.tilt_zero_deg = -1.75;
+  const StageKinematics ideal;
+  EXPECT_TRUE(offset.LFromS(12.5 + 60, -1.75 - 15)
+                  .matrix()
+                  .isApprox(ideal.LFromS(60, -15).matrix(), 1e-12));
+}
+
+TEST(StageKinematics, LevellingTiltsThePanAxis) {
+  StageKinematics s;
+  s.levelling_x_deg = 0.3;
+  s.levelling_y_deg = -0.4;
+  // The pan axis (Z of the stage base) leans by the combined small angle, ~0.5 deg.
+  const Eigen::Vector3d axis = s.LFromS(77, 0).linear() * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(DegFromRad(std::acos(axis.z())), 0.5, 1e-4);
+}
+
+TEST(StageKinematics, RigOffsetSweepsACircleUnderPan) {
+  StageKinematics s;
+  s.rig_offset_m = {0.0, 0.1, 0.2};
+  for (double pan = 0; pan < 360; pan += 30) {
+    const Eigen::Vector3d origin = s.LFromS(pan, 0).translation();
+    EXPECT_NEAR(origin.z(), 0.2, 1e-12);
+    EXPECT_NEAR(origin.head<2>().norm(), 0.1, 1e-12);
+  }
+  // Under tilt the offset turns about the tilt axis: Rx(t) (0, 0.1, 0.2).
+  const Eigen::Vector3d tilted = s.LFromS(0, 30).translation();
+  const double t = RadFromDeg(30);
+  EXPECT_NEAR(tilted.y(), 0.1 * std::cos(t) - 0.2 * std::sin(t), 1e-12);
+  EXPECT_NEAR(tilted.z(), 0.1 * std::sin(t) + 0.2 * std::cos(t), 1e-12);
+}
+
+TEST(StageKinematics, TiltAxisOffsetIsNotRotatedByTilt) {
+  StageKinematics s;
+  s.tilt_axis_offset_m = {0.0, 0.05, 0.12};
+  EXPECT_TRUE(s.LFromS(0, 0).translation().isApprox(s.LFromS(0, 25).translation(), 1e-12));
+  EXPECT_TRUE(s.LFromS(90, 0).translation().isApprox(Eigen::Vector3d(0.05, 0.0, 0.12), 1e-12));
+}
+
+TEST(StageKinematics, StationMarkIsBelowTheStageCentre) {
+  StageKinematics s;
+  s.height_above_mark_m = 1.42;
+  EXPECT_TRUE(s.StationMarkInL().isApprox(Eigen::Vector3d(0, 0, -1.42)));
+}
+
+TEST(StageKinematics, CheckRejectsNonsense) {
+  std::string why;
+  StageKinematics s;
+  EXPECT_TRUE(s.Check(&why));
+  s.levelling_x_deg = std::nan("");
+  EXPECT_FALSE(s.Check(&why));
+  s = StageKinematics();
+  s.rig_offset_m = {0, 0, 3};
+  EXPECT_FALSE(s.Check(&why));
+  s = StageKinematics();
+  s.height_above_mark_m = -1;
+  EXPECT_FALSE(s.Check(&why));
+}
+
+TEST(Calibration, LeftCameraOfIdealRigLooksAlongPanDirection) {
+  Calibration cal;
+  cal.rig.baseline_m = 0.5;
+  const Eigen::Isometry3d left = cal.LFromCamera(Side::kLeft, 90, 0);
+  EXPECT_TRUE((left.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX()));
+  // At pan 90 the baseline (left to right) points south: the left camera is north.
+  EXPECT_TRUE(left.translation().isApprox(Eigen::Vector3d(0, 0.25, 0), 1e-12));
+  const Eigen::Isometry3d right = cal.LFromCamera(Side::kRight, 90, 0);
+  EXPECT_TRUE(right.translation().isApprox(Eigen::Vector3d(0, -0.25, 0), 1e-12));
+}
+
+}  // namespace
+}  // namespace ts

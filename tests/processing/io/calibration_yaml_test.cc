@@ -1,0 +1,168 @@
+#include "processing/io/calibration_yaml.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "processing/geometry/rotation.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+Calibration Example() {
+  Calibration cal;
+  CameraIntrinsics c;
+  c.width_px = 1392;
+  c.height_px = 1040;
+  c.pixel_size_um = 6.45;
+  c.principal_distance_px = 1861.234567890123;
+  c.principal_point_x_px = 700.125;
+  c.principal_point_y_px = 515.5;
+  c.k1 = -0.123456789;
+  c.k2 = 0.0456;
+  c.k3 = -1e-3;
+  c.p1 = 1.5e-4;
+  c.p2 = -2.5e-4;
+  c.scale_x = 1e-4;
+  c.shear = -3e-5;
+  cal.rig.left = c;
+  c.principal_distance_px = 1858.5;
+  c.k1 = -0.11;
+  cal.rig.right = c;
+  cal.rig.baseline_m = 0.5012;
+  cal.rig.S_from_left = StereoRig::NominalSFromCamera() * RotationFromOpk({0.002, -0.01, 0.003});
+  cal.rig.left_from_right = RotationFromOpk({0.001, 0.02, -0.004});
+  cal.stage.height_above_mark_m = 1.45;
+  cal.stage.levelling_x_deg = 0.12;
+  cal.stage.levelling_y_deg = -0.08;
+  cal.stage.pan_zero_deg = 3.25;
+  cal.stage.tilt_zero_deg = -0.5;
+  cal.stage.tilt_axis_offset_m = {0.001, 0.02, 0.15};
+  cal.stage.tilt_axis_skew_deg = 0.03;
+  cal.stage.rig_offset_m = {0.0, 0.03, 0.08};
+  cal.stage.rig_rotation_opk_deg = {0.1, -0.05, 0.2};
+  return cal;
+}
+
+void ExpectSameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  EXPECT_EQ(a.width_px, b.width_px);
+  EXPECT_EQ(a.height_px, b.height_px);
+  const auto pa = a.ToParameters(), pb = b.ToParameters();
+  for (size_t i = 0; i < pa.size(); ++i) EXPECT_DOUBLE_EQ(pa[i], pb[i]) << i;
+}
+
+TEST(CalibrationYaml, RoundTripsEveryParameter) {
+  testing::TempDir dir;
+  const Calibration cal = Example();
+  ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "cal.yaml").ok());
+  const Result<Calibration> back = LoadCalibrationYaml(dir / "cal.yaml");
+  ASSERT_TRUE(back.ok()) << back.error();
+  ExpectSameCamera(back->rig.left, cal.rig.left);
+  ExpectSameCamera(back->rig.right, cal.rig.right);
+  EXPECT_DOUBLE_EQ(back->rig.baseline_m, cal.rig.baseline_m);
+  EXPECT_TRUE(back->rig.S_from_left.isApprox(cal.rig.S_from_left, 1e-14));
+  EXPECT_TRUE(back->rig.left_from_right.isApprox(cal.rig.left_from_right, 1e-14));
+  for (double pan : {0.0, 123.0}) {
+    EXPECT_TRUE(
+        back->stage.LFromS(pan, -20).matrix().isApprox(cal.stage.LFromS(pan, -20).matrix(), 1e-14));
+  }
+  EXPECT_DOUBLE_EQ(back->stage.height_above_mark_m, 1.45);
+}
+
+TEST(CalibrationYaml, FocalLengthInMillimetresAndDefaultPrincipalPoint) {
+  testing::TempDir dir;
+  std::ofstream(dir / "cal.yaml") << R"(schema_version: 1
+cameras:
+  left: {width_px: 1392, height_px: 1040, pixel_size_um: 6.45, principal_distance_mm: 12}
+  right: {width_px: 1392, height_px: 1040, pixel_size_um: 6.45, principal_distance_mm: 12}
+stereo: {baseline_m: 0.5}
+)";
+  const Result<Calibration> cal = LoadCalibrationYaml(dir / "cal.yaml");
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_NEAR(cal->rig.left.principal_distance_px, 12000.0 / 6.45, 1e-9);
+  EXPECT_DOUBLE_EQ(cal->rig.left.principal_point_x_px, 695.5);
+  EXPECT_DOUBLE_EQ(cal->rig.left.principal_point_y_px, 519.5);
+  EXPECT_TRUE(cal->rig.S_from_left.isApprox(StereoRig::NominalSFromCamera()));
+}
+
+struct BadCase {
+  const char* name;
+  const char* find;     // text to replace in the good document ("" = replace all)
+  const char* replace;  // with this
+  const char* expect;   // the error must contain this
+};
+
+constexpr const char* kGood = R"(schema_version: 1
+cameras:
+  left: {width_px: 1392, height_px: 1040, principal_distance_px: 1860, principal_point_px: [695.5, 519.5]}
+  right: {width_px: 1392, height_px: 1040, principal_distance_px: 1860}
+stereo: {baseline_m: 0.5, right_relative_opk_deg: [0, 0, 0]}
+stage: {height_above_mark_m: 1.5, levelling_deg: [0.1, 0.2]}
+)";
+
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
+class CalibrationYamlBad : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CalibrationYamlBad, GivesOneClearErrorNamingFileAndField) {
+  const BadCase& c = GetParam();
+  std::string text = kGood;
+  if (std::string(c.find).empty()) {
+    text = c.replace;
+  } else {
+    const size_t at = text.find(c.find);
+    ASSERT_NE(at, std::string::npos) << c.find;
+    text.replace(at, std::string(c.find).size(), c.replace);
+  }
+  testing::TempDir dir;
+  const std::string file = dir / "cal.yaml";
+  std::ofstream(file) << text;
+  const Result<Calibration> cal = LoadCalibrationYaml(file);
+  ASSERT_FALSE(cal.ok()) << c.name;
+  EXPECT_EQ(cal.error().rfind(file + ": ", 0), 0u) << cal.error();
+  EXPECT_NE(cal.error().find(c.expect), std::string::npos) << cal.error();
+  EXPECT_EQ(cal.error().find('\n'), std::string::npos) << "one line";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CalibrationYamlBad,
+    ::testing::Values(
+        BadCase{"nan", "principal_distance_px: 1860,", "principal_distance_px: .nan,",
+                "cameras.left.principal_distance_px: must be finite"},
+        BadCase{"missing", "baseline_m: 0.5, ", "", "stereo.baseline_m: missing"},
+        BadCase{"negative", "baseline_m: 0.5", "baseline_m: -0.5",
+                "stereo.baseline_m: must be positive"},
+        BadCase{"unknown key", "height_px: 1040, principal_distance_px: 1860}",
+                "height_px: 1040, principal_distanse_px: 1860}",
+                "cameras.right.principal_distanse_px: unknown key"},
+        BadCase{"not a number", "width_px: 1392, height_px: 1040, principal_distance_px: 1860,",
+                "width_px: wide, height_px: 1040, principal_distance_px: 1860,",
+                "cameras.left.width_px: must be an integer"},
+        BadCase{"version", "schema_version: 1", "schema_version: 7",
+                "schema_version: unsupported version 7"},
+        BadCase{"list length", "principal_point_px: [695.5, 519.5]", "principal_point_px: [695.5]",
+                "cameras.left.principal_point_px: must be a list"},
+        BadCase{"levelling nan", "levelling_deg: [0.1, 0.2]", "levelling_deg: [0.1, .nan]",
+                "stage.levelling_deg: element 1 must be a finite number"},
+        BadCase{"both focal lengths", "principal_distance_px: 1860}",
+                "principal_distance_px: 1860, principal_distance_mm: 12}",
+                "give exactly one of _px and _mm"},
+        BadCase{"syntax", "stereo: {baseline_m", "stereo: [baseline_m", "line "},
+        BadCase{"empty", "", "", "file is empty"},
+        BadCase{"not a mapping", "", "- 1\n- 2\n", "document: must be a mapping"}),
+    [](const ::testing::TestParamInfo<BadCase>& info) {
+      std::string name = info.param.name;
+      for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return name;
+    });
+
+TEST(CalibrationYaml, MissingFileIsAnError) {
+  const Result<Calibration> cal = LoadCalibrationYaml("/nonexistent/cal.yaml");
+  ASSERT_FALSE(cal.ok());
+  EXPECT_NE(cal.error().find("/nonexistent/cal.yaml: cannot read file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
