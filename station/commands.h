@@ -13,5 +13,6 @@ class CommandError : public std::runtime_error {
 
 void AddAccuracyCommand(CLI::App& app);
 void AddValidateCommand(CLI::App& app);
+void AddSimCommand(CLI::App& app);
 
 }  // namespace ts

@@ -13,6 +13,7 @@
 
 #include "processing/common/result.h"
 #include "processing/geometry/calibration.h"
+#include "processing/geometry/capture_plan.h"
 #include "processing/io/image_file.h"
 
 namespace ts {
@@ -20,11 +21,6 @@ namespace ts {
 inline constexpr int kStationSchemaVersion = 1;
 inline constexpr const char* kStationSchemaName = "topostation.station";
 inline constexpr const char* kManifestFileName = "station.json";
-
-struct StagePose {
-  double pan_deg = 0.0;
-  double tilt_deg = 0.0;
-};
 
 struct ImageRecord {
   std::string file;    // relative to the station directory, e.g. "raw/pair_03_left.png"

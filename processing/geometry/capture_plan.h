@@ -1,0 +1,42 @@
+#pragma once
+// The capture plan: the stage poses of a panorama. One implementation, used by the simulator
+// (`sim render`) and by acquisition alike.
+//
+// Default: 12 azimuths 30 deg apart at one downward tilt, chosen from the rig geometry so that
+// the top edge of the image sees the ground just beyond far_range_m (the corners of the 60 m
+// square are 42.4 m away) and the bottom edge the ground a few metres from the tripod. With
+// the paper's rig (vertical field of view 31 deg) at 1.5 m that is about 2.4 m to 42.5 m,
+// and neighbouring views overlap by about 11 deg of their 41 deg width.
+#include <string>
+#include <vector>
+
+#include "processing/geometry/calibration.h"
+
+namespace ts {
+
+struct StagePose {
+  double pan_deg = 0.0;
+  double tilt_deg = 0.0;
+};
+
+struct CapturePlanOptions {
+  int azimuths = 12;               // poses per row, evenly spaced over 360 deg
+  double first_pan_deg = 0.0;      // pan of the first pose
+  std::vector<double> tilts_deg;   // rows; empty = one row at AutomaticTiltDeg()
+  double far_range_m = 42.5;       // ground range the top image edge must reach
+  double margin_deg = 1.0;         // the top edge looks this much above that ground point
+  double max_abs_tilt_deg = 32.0;  // stage limit
+  bool Check(std::string* why) const;
+};
+
+// Tilt (deg, negative = down) putting the top image edge margin_deg above the ground at
+// far_range_m, for a camera height of calibration.stage.height_above_mark_m.
+double AutomaticTiltDeg(const Calibration& calibration, const CapturePlanOptions& options);
+// Nearest ground range seen by the bottom image edge at a given tilt (flat ground).
+double NearestGroundRangeM(const Calibration& calibration, double tilt_deg);
+
+// Throws std::invalid_argument when the options are invalid or a tilt exceeds the limit.
+std::vector<StagePose> MakeCapturePlan(const Calibration& calibration,
+                                       const CapturePlanOptions& options);
+
+}  // namespace ts

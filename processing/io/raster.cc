@@ -1,0 +1,117 @@
+#include "processing/io/raster.h"
+
+#include <cpl_conv.h>
+#include <gdal_priv.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+namespace ts {
+namespace {
+
+void RegisterGdalOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+}
+
+struct DatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
+
+}  // namespace
+
+Raster Raster::Make(double min_x_m, double max_y_m, double cell_m, int cols, int rows, float fill) {
+  Raster r;
+  r.min_x_m = min_x_m;
+  r.max_y_m = max_y_m;
+  r.cell_m = cell_m;
+  r.cols = cols;
+  r.rows = rows;
+  r.values.assign(static_cast<size_t>(cols) * rows, fill);
+  return r;
+}
+
+double Raster::Interpolate(double x_m, double y_m) const {
+  const double fc = (x_m - min_x_m) / cell_m - 0.5, fr = (max_y_m - y_m) / cell_m - 0.5;
+  const int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
+  if (c0 < 0 || r0 < 0 || c0 + 1 >= cols || r0 + 1 >= rows) {
+    // On the outermost half cell, fall back to the nearest cell.
+    const int c = static_cast<int>(std::lround(fc)), r = static_cast<int>(std::lround(fr));
+    if (c < 0 || r < 0 || c >= cols || r >= rows || std::abs(fc - c) > 0.5 + 1e-9 ||
+        std::abs(fr - r) > 0.5 + 1e-9)
+      return std::nan("");
+    const float v = at(r, c);
+    return IsNoData(v) ? std::nan("") : v;
+  }
+  const double tx = fc - c0, ty = fr - r0;
+  const float v00 = at(r0, c0), v01 = at(r0, c0 + 1), v10 = at(r0 + 1, c0),
+              v11 = at(r0 + 1, c0 + 1);
+  if (IsNoData(v00) || IsNoData(v01) || IsNoData(v10) || IsNoData(v11)) return std::nan("");
+  return (1 - ty) * ((1 - tx) * v00 + tx * v01) + ty * ((1 - tx) * v10 + tx * v11);
+}
+
+Status WriteGeoTiff(const Raster& raster, const std::string& path) {
+  RegisterGdalOnce();
+  if (raster.cols <= 0 || raster.rows <= 0 ||
+      raster.values.size() != static_cast<size_t>(raster.cols) * raster.rows)
+    return Error{path + ": raster has no cells or the wrong number of values"};
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+  if (!driver) return Error{path + ": GDAL has no GTiff driver"};
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  char** options = nullptr;
+  options = CSLSetNameValue(options, "COMPRESS", "DEFLATE");
+  options = CSLSetNameValue(options, "PREDICTOR", "3");
+  options = CSLSetNameValue(options, "TILED", "YES");
+  Dataset ds(driver->Create(tmp.c_str(), raster.cols, raster.rows, 1, GDT_Float32, options));
+  CSLDestroy(options);
+  if (!ds) return Error{path + ": cannot create GeoTIFF"};
+  double transform[6] = {raster.min_x_m, raster.cell_m, 0.0, raster.max_y_m, 0.0, -raster.cell_m};
+  ds->SetGeoTransform(transform);
+  if (!raster.crs_wkt.empty()) ds->SetProjection(raster.crs_wkt.c_str());
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  band->SetNoDataValue(Raster::kNoData);
+  std::vector<float> data = raster.values;
+  if (band->RasterIO(GF_Write, 0, 0, raster.cols, raster.rows, data.data(), raster.cols,
+                     raster.rows, GDT_Float32, 0, 0) != CE_None) {
+    ds.reset();
+    std::filesystem::remove(tmp);
+    return Error{path + ": cannot write GeoTIFF data"};
+  }
+  ds.reset();  // flush and close
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Error{path + ": cannot rename into place: " + ec.message()};
+  return {};
+}
+
+Result<Raster> ReadGeoTiff(const std::string& path) {
+  RegisterGdalOnce();
+  if (!std::filesystem::is_regular_file(path)) return Error{path + ": cannot read file"};
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  Dataset ds(static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly)));
+  CPLPopErrorHandler();
+  if (!ds) return Error{path + ": not a raster GDAL can read"};
+  if (ds->GetRasterCount() < 1) return Error{path + ": no raster band"};
+  double t[6];
+  if (ds->GetGeoTransform(t) != CE_None) return Error{path + ": no geotransform"};
+  if (t[2] != 0.0 || t[4] != 0.0) return Error{path + ": rotated rasters are not supported"};
+  if (!(t[1] > 0.0) || std::abs(t[1] + t[5]) > 1e-9 * t[1])
+    return Error{path + ": cells must be square and north-up"};
+  Raster r = Raster::Make(t[0], t[3], t[1], ds->GetRasterXSize(), ds->GetRasterYSize());
+  if (const char* wkt = ds->GetProjectionRef(); wkt) r.crs_wkt = wkt;
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  if (band->RasterIO(GF_Read, 0, 0, r.cols, r.rows, r.values.data(), r.cols, r.rows, GDT_Float32, 0,
+                     0) != CE_None)
+    return Error{path + ": cannot read raster data"};
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  for (float& v : r.values)
+    if ((has_nodata && v == static_cast<float>(nodata)) || !std::isfinite(v)) v = Raster::kNoData;
+  return r;
+}
+
+}  // namespace ts

@@ -1,0 +1,43 @@
+#pragma once
+// A north-up raster on a regular grid (a DEM, its standard deviation, a mask) and its
+// GeoTIFF I/O through GDAL. Coordinates are in the station frame L (x east = X_L, y north =
+// Y_L) unless crs_wkt names a projected CRS. Row 0 is the northern edge, as in GeoTIFF.
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "processing/common/result.h"
+
+namespace ts {
+
+struct Raster {
+  double min_x_m = 0.0;  // western edge of column 0
+  double max_y_m = 0.0;  // northern edge of row 0
+  double cell_m = 1.0;   // square cells
+  int cols = 0;
+  int rows = 0;
+  std::vector<float> values;  // row-major, rows * cols
+  std::string crs_wkt;        // empty: station frame L, no CRS
+
+  static constexpr float kNoData = -9999.0f;
+
+  // An all-nodata raster whose cells tile [min_x, min_x + cols*cell] x [max_y - rows*cell, max_y].
+  static Raster Make(double min_x_m, double max_y_m, double cell_m, int cols, int rows,
+                     float fill = kNoData);
+  float& at(int row, int col) { return values[static_cast<size_t>(row) * cols + col]; }
+  float at(int row, int col) const { return values[static_cast<size_t>(row) * cols + col]; }
+  double CellCentreX(int col) const { return min_x_m + (col + 0.5) * cell_m; }
+  double CellCentreY(int row) const { return max_y_m - (row + 0.5) * cell_m; }
+  static bool IsNoData(float v) { return !std::isfinite(v) || v == kNoData; }
+  // Bilinear interpolation between cell centres; NaN outside or next to nodata.
+  double Interpolate(double x_m, double y_m) const;
+};
+
+// Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a
+// temporary name and renamed (atomic).
+Status WriteGeoTiff(const Raster& raster, const std::string& path);
+// Reads band 1 of any north-up raster GDAL can open, as float.
+Result<Raster> ReadGeoTiff(const std::string& path);
+
+}  // namespace ts

@@ -1,0 +1,32 @@
+#pragma once
+// The simulated rig: the paper's cameras (1392 x 1040 px of 6.45 um, 12 mm, 0.5 m base) on a
+// stage, deliberately imperfect. `truth` is how the rig really is (lens distortion, mount
+// offsets, encoder zeros, levelling error); `nominal` is what the station knows before
+// calibration: the design values, the levelling as the inclinometer reports it, and the
+// stage height as measured with a tape. Deterministic for a seed.
+#include <cstdint>
+
+#include "processing/geometry/calibration.h"
+#include "sim/sensor.h"
+
+namespace ts::sim {
+
+struct SimRig {
+  Calibration truth;
+  Calibration nominal;
+  SensorModel left_sensor;
+  SensorModel right_sensor;  // a slightly different sensitivity and black level
+  // Inclinometer reading of the levelling error (what the stage's device block reports).
+  double inclinometer_x_deg = 0.0;
+  double inclinometer_y_deg = 0.0;
+
+  const SensorModel& sensor(Side side) const {
+    return side == Side::kLeft ? left_sensor : right_sensor;
+  }
+};
+
+SimRig MakeSimRig(uint64_t seed, double stage_height_m);
+// The design calibration of the simulated rig (what `nominal` starts from).
+Calibration DesignCalibration(double stage_height_m);
+
+}  // namespace ts::sim

@@ -1,0 +1,157 @@
+#include "sim/sim_station.h"
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <thread>
+
+#include "processing/io/station_manifest.h"
+#include "sim/noise.h"
+#include "sim/truth.h"
+
+namespace ts::sim {
+
+bool SimStationOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(stage_height_m >= 0.3 && stage_height_m <= 5.0)) err = "stage height must be in [0.3, 5] m";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+bool StationRenderOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(exposure_us > 0.0 && exposure_us <= 1e7))
+    err = "exposure_us must be in (0, 1e7]";
+  else if (!(gain_db >= 0.0 && gain_db <= 48.0))
+    err = "gain_db must be in [0, 48]";
+  else if (!(encoder_noise_deg >= 0.0 && encoder_noise_deg < 1.0))
+    err = "encoder_noise_deg must be in [0, 1)";
+  else if (!render.Check(&err) || !plan.Check(&err)) {
+  }
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOptions& options) {
+  std::string why;
+  if (!options.Check(&why)) return Error{"simulated station: " + why};
+  Result<Scene> scene = options.dem_file.empty() ? MakeBuiltinScene(options.scene, options.seed)
+                                                 : MakeSceneFromDem(options.dem_file, options.seed);
+  if (!scene) return Error{scene.error()};
+  auto station = std::make_shared<SimStation>();
+  station->scene = std::move(*scene);
+  if (station->scene.stage_height_m != options.stage_height_m) {
+    // Re-level: the lattice was built for the default height.
+    for (float& h : station->scene.heights)
+      h -= static_cast<float>(options.stage_height_m - station->scene.stage_height_m);
+    for (SceneObject& o : station->scene.objects) {
+      const double dz = options.stage_height_m - station->scene.stage_height_m;
+      o.ground.z() -= dz;
+      o.canopy_centre.z() -= dz;
+    }
+    station->scene.stage_height_m = options.stage_height_m;
+  }
+  station->mesh = BuildSceneMesh(station->scene);
+  station->rig = MakeSimRig(options.seed, options.stage_height_m);
+  return std::shared_ptr<const SimStation>(std::move(station));
+}
+
+cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& r) {
+  const CameraIntrinsics& intrinsics =
+      r.side == Side::kLeft ? station.rig.truth.rig.left : station.rig.truth.rig.right;
+  const CameraModel camera(intrinsics);
+  const Eigen::Isometry3d pose = station.rig.truth.LFromCamera(r.side, r.pan_deg, r.tilt_deg);
+  const cv::Mat radiance = renderer.Render(camera, pose, r.render);
+  const uint64_t noise_seed = Hash(station.scene.seed, r.side == Side::kLeft ? 1 : 2,
+                                   std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
+  return ExposeImage(radiance, intrinsics, station.rig.sensor(r.side), r.exposure_us, r.gain_db,
+                     r.format, noise_seed);
+}
+
+namespace {
+
+Status WritePair(const SimStation& station, const StationRenderOptions& o, Renderer renderers[2],
+                 const std::string& dir, int index, const StagePose& commanded, double pan_deg,
+                 double tilt_deg, StationManifest* manifest) {
+  PairRecord pair;
+  pair.index = index;
+  pair.commanded = commanded;
+  // The encoder registers hold millidegrees.
+  pair.readback = {std::round(pan_deg * 1e3) / 1e3, std::round(tilt_deg * 1e3) / 1e3};
+  pair.exposure_us = o.exposure_us;
+  pair.gain_db = o.gain_db;
+  pair.captured_utc = UtcNowIso8601();
+  cv::Mat images[2];
+  std::thread right([&] {
+    images[1] = RenderFrame(
+        renderers[1], station,
+        {Side::kRight, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render});
+  });
+  images[0] =
+      RenderFrame(renderers[0], station,
+                  {Side::kLeft, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render});
+  right.join();
+  for (Side side : {Side::kLeft, Side::kRight}) {
+    ImageRecord& record = side == Side::kLeft ? pair.left : pair.right;
+    record.file = StationManifest::ImageFileName(index, side);
+    const Result<std::string> sha = WritePngAtomically(
+        images[side == Side::kLeft ? 0 : 1], (std::filesystem::path(dir) / record.file).string());
+    if (!sha) return Error{sha.error()};
+    record.sha256 = *sha;
+  }
+  pair.left_timestamp_ns = pair.right_timestamp_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(
+          std::chrono::system_clock::now().time_since_epoch())
+          .count();
+  manifest->pairs.push_back(pair);
+  return SaveStationManifest(manifest, dir);  // the manifest commits the pair
+}
+
+}  // namespace
+
+Status RenderStationDirectory(const SimStation& station, const StationRenderOptions& o,
+                              const std::string& station_dir, const std::string& truth_dir,
+                              const std::function<void(int, int)>& progress) {
+  std::string why;
+  if (!o.Check(&why)) return Error{"sim render: " + why};
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(station_dir) / "raw", ec);
+  if (ec) return Error{station_dir + ": cannot create station directory: " + ec.message()};
+  StationManifest manifest;
+  manifest.station_id = "SIM-" + station.scene.name + "-" + std::to_string(station.scene.seed);
+  manifest.software_version = "topostation sim render";
+  manifest.rig_name = "simulated";
+  manifest.calibration = station.rig.nominal;
+  manifest.image_width_px = station.rig.nominal.rig.left.width_px;
+  manifest.image_height_px = station.rig.nominal.rig.left.height_px;
+  manifest.pixel_format = o.format;
+  try {
+    manifest.plan = MakeCapturePlan(station.rig.nominal, o.plan);
+  } catch (const std::invalid_argument& e) {
+    return Error{e.what()};
+  }
+  nlohmann::json plan = nlohmann::json::array();
+  for (const StagePose& p : manifest.plan)
+    plan.push_back({{"pan_deg", p.pan_deg}, {"tilt_deg", p.tilt_deg}});
+  if (Status s = WriteTruthDirectory(station.scene, station.rig, truth_dir,
+                                     {{"capture_plan", plan}, {"station_dir", station_dir}});
+      !s)
+    return s;
+  std::mt19937_64 rng(Hash(station.scene.seed, 0xe7c0de, 0));
+  std::normal_distribution<double> encoder(0.0, o.encoder_noise_deg);
+  Renderer renderers[2] = {Renderer(station.scene, station.mesh),
+                           Renderer(station.scene, station.mesh)};
+  const int total = static_cast<int>(manifest.plan.size());
+  for (int i = 0; i < total; ++i) {
+    const StagePose& p = manifest.plan[i];
+    const double pan = p.pan_deg + encoder(rng), tilt = p.tilt_deg + encoder(rng);
+    if (Status s = WritePair(station, o, renderers, station_dir, i, p, pan, tilt, &manifest); !s)
+      return s;
+    if (progress) progress(i + 1, total);
+  }
+  return {};
+}
+
+}  // namespace ts::sim

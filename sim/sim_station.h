@@ -1,0 +1,65 @@
+#pragma once
+// A whole simulated station: scene, its mesh and the simulated rig, built once and shared
+// (read-only) by `sim render`, the simulated cameras of `sim serve`, and the tests.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "processing/common/result.h"
+#include "processing/geometry/capture_plan.h"
+#include "processing/io/image_file.h"
+#include "sim/renderer.h"
+#include "sim/scene.h"
+#include "sim/scene_mesh.h"
+#include "sim/sim_rig.h"
+
+namespace ts::sim {
+
+struct SimStationOptions {
+  std::string scene = "hills";  // a built-in scene, unless dem_file is set
+  std::string dem_file;         // any GeoTIFF DEM as terrain
+  uint64_t seed = 1;
+  double stage_height_m = 1.5;
+  bool Check(std::string* why) const;
+};
+
+struct SimStation {
+  Scene scene;
+  SceneMesh mesh;
+  SimRig rig;
+};
+
+Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOptions& options);
+
+// One camera frame as the simulated sensor delivers it, for the stage at the given encoder
+// readings. The noise is seeded by scene, side and pose, so the same request gives the same
+// image (the offline render and the simulated GigE camera agree pixel for pixel).
+struct FrameRequest {
+  Side side = Side::kLeft;
+  double pan_deg = 0.0;  // encoder readings
+  double tilt_deg = 0.0;
+  double exposure_us = 8000.0;
+  double gain_db = 0.0;
+  PixelFormat format = PixelFormat::kMono8;
+  RenderOptions render;
+};
+cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& request);
+
+struct StationRenderOptions {
+  double exposure_us = 8000.0;
+  double gain_db = 0.0;
+  PixelFormat format = PixelFormat::kMono8;
+  RenderOptions render;
+  CapturePlanOptions plan;
+  double encoder_noise_deg = 0.002;  // where the axes really stop around the commanded angle
+  bool Check(std::string* why) const;
+};
+
+// Writes a complete station directory straight from the renderer (no hardware path) and the
+// truth directory. progress(done, total) is called after each pair.
+Status RenderStationDirectory(const SimStation& station, const StationRenderOptions& options,
+                              const std::string& station_dir, const std::string& truth_dir,
+                              const std::function<void(int, int)>& progress = {});
+
+}  // namespace ts::sim
