@@ -66,7 +66,7 @@ Status WriteTruthDirectory(const Scene& scene, const SimRig& rig, const std::str
         {"dem_fine", "dem_fine.tif"},
         {"objects", "objects.tif"},
         {"calibration", "calibration.yaml"}}}};
-  truth.update(extra);
+  if (extra.is_object()) truth.update(extra);
   return WriteFileAtomically((d / "truth.json").string(), truth.dump(2) + "\n");
 }
 

@@ -1,11 +1,15 @@
 // topostation sim render|serve: the simulated station (DESIGN.md "Simulator").
+#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <memory>
 
+#include "sim/faults.h"
+#include "sim/sim_server.h"
 #include "sim/sim_station.h"
+#include "sim/truth.h"
 #include "station/commands.h"
 
 namespace ts {
@@ -59,6 +63,40 @@ void RunRender(const RenderArgs& args) {
               args.scene.truth_dir.c_str());
 }
 
+struct ServeArgs {
+  SceneArgs scene;
+  sim::SimServeOptions serve;
+  std::string faults;
+};
+
+void RunServe(const ServeArgs& args) {
+  // Block the stop signals before any thread starts, so only sigwait() below receives them.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  sim::SimServeOptions options = args.serve;
+  const Result<sim::SimFaults> faults = sim::ParseFaults(args.faults);
+  if (!faults) throw CommandError(faults.error());
+  options.faults = *faults;
+  const auto station = Build(args.scene);
+  const Status truth = sim::WriteTruthDirectory(station->scene, station->rig, args.scene.truth_dir);
+  if (!truth) throw CommandError(truth.error());
+  auto server = sim::SimServer::Start(station, options);
+  if (!server) throw CommandError(server.error());
+  nlohmann::json ready = (*server)->Endpoints();
+  ready["ready"] = true;
+  ready["scene"] = station->scene.name;
+  ready["truth"] = args.scene.truth_dir;
+  std::printf("%s\n", ready.dump().c_str());
+  std::fflush(stdout);
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  server->reset();  // stops cameras and stage cleanly
+}
+
 }  // namespace
 
 void AddSimCommand(CLI::App& app) {
@@ -76,6 +114,22 @@ void AddSimCommand(CLI::App& app) {
                 "samples per pixel along each axis (default 2)");
   r->add_flag("--mono16", render->mono16, "write Mono16 images instead of Mono8");
   r->callback([render] { RunRender(*render); });
+
+  auto serve = std::make_shared<ServeArgs>();
+  CLI::App* v = sim->add_subcommand(
+      "serve", "Serve the simulated cameras (GigE Vision) and stage (Modbus) until SIGTERM");
+  AddSceneOptions(v, &serve->scene);
+  v->add_option("--faults", serve->faults,
+                "key=value,...: gvsp-loss=R, camera-gone=SIDE:after=S:for=S, "
+                "stage-stall=AXIS:after=N, stage-alarm=AXIS:after=N, modbus-crc=R, "
+                "modbus-drop=R");
+  v->add_option("--left-address", serve->serve.left_address, "default 127.0.0.1");
+  v->add_option("--right-address", serve->serve.right_address, "default 127.0.0.2");
+  v->add_option("--left-serial", serve->serve.left_serial, "default TS-SIM-L");
+  v->add_option("--right-serial", serve->serve.right_serial, "default TS-SIM-R");
+  v->add_option("--stage-address", serve->serve.stage_address, "default 127.0.0.1");
+  v->add_option("--stage-port", serve->serve.stage_port, "Modbus TCP port (default 15020)");
+  v->callback([serve] { RunServe(*serve); });
 }
 
 }  // namespace ts

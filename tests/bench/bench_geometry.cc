@@ -6,15 +6,11 @@
 #include "processing/geometry/intersection.h"
 #include "processing/geometry/stereo_rig.h"
 #include "tests/bench/bench_table.h"
+#include "tests/common/paper_rig.h"
 
 int main(int argc, char** argv) {
   using namespace ts;
-  CameraIntrinsics c;
-  c.width_px = 1392;
-  c.height_px = 1040;
-  c.principal_distance_px = 1860.0;
-  c.principal_point_x_px = 695.5;
-  c.principal_point_y_px = 519.5;
+  CameraIntrinsics c = testing::PaperCamera();
   c.k1 = -0.15;
   c.k2 = 0.08;
   c.p1 = 3e-4;

@@ -4,14 +4,13 @@
 
 #include <random>
 
+#include "tests/common/paper_rig.h"
+
 namespace ts {
 namespace {
 
 CameraIntrinsics StrongLens() {
-  CameraIntrinsics c;
-  c.width_px = 1392;
-  c.height_px = 1040;
-  c.pixel_size_um = 6.45;
+  CameraIntrinsics c = testing::PaperCamera();
   c.principal_distance_px = 1860.0;
   c.principal_point_x_px = 701.3;
   c.principal_point_y_px = 512.8;

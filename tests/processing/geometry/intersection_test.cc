@@ -6,17 +6,14 @@
 
 #include "processing/geometry/rotation.h"
 #include "processing/geometry/stereo_rig.h"
+#include "tests/common/paper_rig.h"
 
 namespace ts {
 namespace {
 
 CameraIntrinsics Lens(bool distorted) {
-  CameraIntrinsics c;
-  c.width_px = 1392;
-  c.height_px = 1040;
+  CameraIntrinsics c = testing::PaperCamera();
   c.principal_distance_px = 1860.0;
-  c.principal_point_x_px = 695.5;
-  c.principal_point_y_px = 519.5;
   if (distorted) {
     c.k1 = -0.15;
     c.k2 = 0.08;

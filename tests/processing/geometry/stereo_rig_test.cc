@@ -3,23 +3,14 @@
 #include <gtest/gtest.h>
 
 #include "processing/geometry/rotation.h"
+#include "tests/common/paper_rig.h"
 
 namespace ts {
 namespace {
 
-CameraIntrinsics Simple() {
-  CameraIntrinsics c;
-  c.width_px = 1392;
-  c.height_px = 1040;
-  c.principal_distance_px = 1860.0;
-  c.principal_point_x_px = 695.5;
-  c.principal_point_y_px = 519.5;
-  return c;
-}
-
 StereoRig Skewed() {
   StereoRig rig;
-  rig.left = rig.right = Simple();
+  rig.left = rig.right = testing::PaperCamera();
   rig.baseline_m = 0.5;
   rig.S_from_left = StereoRig::NominalSFromCamera() * RotationFromOpk({0.01, -0.02, 0.005});
   rig.left_from_right = RotationFromOpk({-0.003, 0.015, 0.002});

@@ -6,6 +6,7 @@
 
 #include "processing/geometry/intersection.h"
 #include "processing/geometry/stereo_rig.h"
+#include "tests/common/paper_rig.h"
 
 namespace ts {
 namespace {
@@ -54,13 +55,7 @@ TEST(TheoreticalAccuracy, AtThePrincipalPointLateralErrorIsYOverF) {
 // Eq. 1's sigma_Y is the intersection's sigma_Y when sigma_p is the parallax error of two
 // image coordinates of sigma_p / sqrt(2) each.
 TEST(TheoreticalAccuracy, AgreesWithIntersectionCovariance) {
-  CameraIntrinsics c;
-  c.width_px = 1392;
-  c.height_px = 1040;
-  c.principal_distance_px = kFocalPx;
-  c.principal_point_x_px = 695.5;
-  c.principal_point_y_px = 519.5;
-  const CameraModel camera(c);
+  const CameraModel camera(testing::PaperCamera());
   const auto rows = TheoreticalAccuracy(kBaselineM, kFocalPx, {});
   for (const AccuracyRow& row : rows) {
     const Eigen::Vector3d point(0.0, row.range_m, 0.0);

@@ -1,0 +1,183 @@
+#include "sim/simulated_camera.h"
+
+#include <arv.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace ts::sim {
+namespace {
+
+SimulatedCamera::Key MakeKey(const StagePose& pose, unsigned exposure_us, unsigned gain,
+                             PixelFormat format) {
+  // Poses closer than a microdegree render the same frame.
+  return {std::llround(pose.pan_deg * 1e6), std::llround(pose.tilt_deg * 1e6), exposure_us, gain,
+          static_cast<int>(format)};
+}
+
+void FillCallback(ArvBuffer* buffer, void* self, guint32 exposure_us, guint32 gain,
+                  ArvPixelFormat pixel_format) {
+  static_cast<SimulatedCamera*>(self)->FillBuffer(buffer, exposure_us, gain, pixel_format);
+}
+
+}  // namespace
+
+SimulatedCamera::SimulatedCamera(std::shared_ptr<const SimStation> station,
+                                 std::function<StagePose()> stage_pose,
+                                 const SimulatedCameraOptions& options)
+    : station_(std::move(station)),
+      stage_pose_(std::move(stage_pose)),
+      options_(options),
+      renderer_(station_->scene, station_->mesh) {
+  prerender_thread_ = std::thread([this] { PrerenderLoop(); });
+}
+
+SimulatedCamera::~SimulatedCamera() {
+  Stop();
+  {
+    std::lock_guard lock(cache_mutex_);
+    quit_ = true;
+  }
+  cache_changed_.notify_all();
+  prerender_thread_.join();
+}
+
+Status SimulatedCamera::Start() {
+  std::lock_guard lock(camera_mutex_);
+  if (camera_) return {};
+  ArvGvFakeCamera* camera =
+      arv_gv_fake_camera_new(options_.address.c_str(), options_.serial.c_str());
+  if (!camera || !arv_gv_fake_camera_is_running(camera)) {
+    if (camera) g_object_unref(camera);
+    return Error{"simulated camera " + options_.serial + ": cannot serve on " + options_.address +
+                 " (is it an address of this host's loopback?)"};
+  }
+  g_object_set(camera, "gvsp-lost-ratio", options_.gvsp_loss_ratio, nullptr);
+  ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(camera);
+  const CameraIntrinsics& c = station_->rig.truth.rig.left;
+  // The fake sensor is 2048 x 2048 by default; make it the rig's sensor.
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_SENSOR_WIDTH,
+                                 static_cast<guint32>(c.width_px));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_SENSOR_HEIGHT,
+                                 static_cast<guint32>(c.height_px));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH,
+                                 static_cast<guint32>(c.width_px));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
+                                 static_cast<guint32>(c.height_px));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US, 8000);
+#if ARAVIS_CHECK_VERSION(0, 9, 1)
+  arv_fake_camera_set_fill_pattern(fake, FillCallback, this, nullptr);
+#else
+  arv_fake_camera_set_fill_pattern(fake, FillCallback, this);
+#endif
+  camera_ = camera;
+  return {};
+}
+
+void SimulatedCamera::Stop() {
+  ArvGvFakeCamera* camera;
+  {
+    std::lock_guard lock(camera_mutex_);
+    camera = camera_;
+    camera_ = nullptr;
+  }
+  if (camera) g_object_unref(camera);  // joins the camera thread and closes its sockets
+}
+
+bool SimulatedCamera::running() const {
+  std::lock_guard lock(camera_mutex_);
+  return camera_ != nullptr;
+}
+
+void SimulatedCamera::PoseChanged(const StagePose& pose) {
+  {
+    std::lock_guard lock(cache_mutex_);
+    prerender_wanted_ = true;
+    prerender_pose_ = pose;
+  }
+  cache_changed_.notify_all();
+}
+
+void SimulatedCamera::PrerenderLoop() {
+  std::unique_lock lock(cache_mutex_);
+  while (true) {
+    cache_changed_.wait(lock, [&] { return quit_ || prerender_wanted_; });
+    if (quit_) return;
+    prerender_wanted_ = false;
+    const StagePose pose = prerender_pose_;
+    const unsigned exposure = last_exposure_us_, gain = last_gain_;
+    const PixelFormat format = last_format_;
+    lock.unlock();
+    Frame(pose, exposure, gain, format);
+    lock.lock();
+  }
+}
+
+cv::Mat SimulatedCamera::Frame(const StagePose& pose, unsigned exposure_us, unsigned gain_db,
+                               PixelFormat format) {
+  const Key key = MakeKey(pose, exposure_us, gain_db, format);
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (!cached_.empty() && cached_key_ == key) return cached_;
+  }
+  std::lock_guard render_lock(render_mutex_);
+  {
+    std::lock_guard lock(cache_mutex_);  // rendered meanwhile by the other thread?
+    if (!cached_.empty() && cached_key_ == key) return cached_;
+  }
+  FrameRequest request;
+  request.side = options_.side;
+  request.pan_deg = pose.pan_deg;
+  request.tilt_deg = pose.tilt_deg;
+  request.exposure_us = exposure_us;
+  request.gain_db = gain_db;
+  request.format = format;
+  request.render = options_.render;
+  cv::Mat frame = RenderFrame(renderer_, *station_, request);
+  std::lock_guard lock(cache_mutex_);
+  cached_key_ = key;
+  cached_ = frame;
+  return frame;
+}
+
+void SimulatedCamera::FillBuffer(void* buffer_ptr, unsigned exposure_us, unsigned gain,
+                                 unsigned pixel_format) {
+  SimulatedCamera* self = this;
+  ArvBuffer* buffer = static_cast<ArvBuffer*>(buffer_ptr);
+  size_t size = 0;
+  auto* data = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, &size)));
+  gint x = 0, y = 0, width = 0, height = 0;
+  arv_buffer_get_image_region(buffer, &x, &y, &width, &height);
+  const bool mono16 = pixel_format == ARV_PIXEL_FORMAT_MONO_16;
+  const size_t bytes_per_pixel = mono16 ? 2 : 1;
+  // Aravis 0.8 reports a size of 0 inside the callback; the buffer holds the full payload.
+  const size_t bytes = static_cast<size_t>(width) * height * bytes_per_pixel;
+  if (!data || width <= 0 || height <= 0) return;
+  if (pixel_format != ARV_PIXEL_FORMAT_MONO_8 && !mono16) {
+    std::memset(data, 0, bytes);  // only Mono8 and Mono16 are simulated
+    return;
+  }
+  const PixelFormat format = mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
+  {
+    std::lock_guard lock(self->cache_mutex_);
+    self->last_exposure_us_ = exposure_us;
+    self->last_gain_ = gain;
+    self->last_format_ = format;
+  }
+  const cv::Mat frame = self->Frame(self->stage_pose_(), exposure_us, gain, format);
+  for (int row = 0; row < height; ++row) {
+    uint8_t* out = data + static_cast<size_t>(row) * width * bytes_per_pixel;
+    const int source_row = y + row;
+    if (source_row < 0 || source_row >= frame.rows) {
+      std::memset(out, 0, static_cast<size_t>(width) * bytes_per_pixel);
+      continue;
+    }
+    const int columns = std::clamp(frame.cols - x, 0, width);
+    std::memcpy(out, frame.ptr<uint8_t>(source_row) + static_cast<size_t>(x) * bytes_per_pixel,
+                static_cast<size_t>(columns) * bytes_per_pixel);
+    std::memset(out + static_cast<size_t>(columns) * bytes_per_pixel, 0,
+                static_cast<size_t>(width - columns) * bytes_per_pixel);
+  }
+}
+
+}  // namespace ts::sim

@@ -1,0 +1,76 @@
+#pragma once
+// The simulated rotary stage on the network: the DESIGN.md register map served over Modbus
+// TCP and Modbus RTU (on a pseudo-terminal it creates), with the dynamics of
+// stage_dynamics.h and fault injection (corrupted and dropped replies). The real libmodbus
+// server code answers, so a client sees exactly what a real stage would send.
+//
+// Threads: a physics thread (200 Hz) and one thread per transport; Pose() and the
+// on-settled callback may be used from any thread.
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "processing/common/result.h"
+#include "processing/geometry/capture_plan.h"
+#include "sim/stage_dynamics.h"
+
+struct _modbus_mapping_t;
+
+namespace ts::sim {
+
+struct SimulatedStageOptions {
+  AxisSettings pan;                 // default 60 deg/s, 180 deg/s^2, settling 0.2 s
+  AxisSettings tilt;                // default 30 deg/s, soft limits +-32 deg
+  double inclinometer_x_deg = 0.0;  // what the device block reports
+  double inclinometer_y_deg = 0.0;
+  uint32_t serial = 7501001;
+  double corrupt_reply_ratio = 0.0;  // fault modbus-crc: replies with a broken checksum
+  double drop_reply_ratio = 0.0;     // fault modbus-drop: requests never answered
+  uint64_t seed = 1;
+  SimulatedStageOptions();
+};
+
+class SimulatedStage {
+ public:
+  explicit SimulatedStage(const SimulatedStageOptions& options);
+  ~SimulatedStage();
+  SimulatedStage(const SimulatedStage&) = delete;
+  SimulatedStage& operator=(const SimulatedStage&) = delete;
+
+  Status ListenTcp(const std::string& address, int port);
+  // Creates a pseudo-terminal and serves Modbus RTU on it; returns the device path a client
+  // opens (e.g. /dev/pts/3).
+  Result<std::string> ServePty();
+  // Encoder readings of the axes now (what the actual-position registers hold, unrounded).
+  StagePose Pose() const;
+  // Called (on the physics thread) whenever both axes have come to rest.
+  void SetOnSettled(std::function<void(const StagePose&)> callback);
+  void Stop();
+
+ private:
+  struct Transport;
+  void PhysicsLoop();
+  void ApplyCommands();
+  void PublishRegisters();
+  void ServeTcpLoop(int listen_fd, void* ctx);
+  void ServeRtuLoop(int master_fd, void* ctx);
+  // Receives one request on fd and answers it (or not, or corrupted: the faults).
+  int HandleRequest(void* ctx, int fd, bool rtu);
+
+  SimulatedStageOptions options_;
+  mutable std::mutex mutex_;  // guards axes_, registers, rng_
+  AxisDynamics pan_, tilt_;
+  _modbus_mapping_t* mapping_ = nullptr;
+  std::function<void(const StagePose&)> on_settled_;
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+  std::vector<void*> contexts_;
+  std::vector<int> fds_;
+  uint64_t rng_state_;
+};
+
+}  // namespace ts::sim

@@ -1,0 +1,127 @@
+#include "sim/truth.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/station_validator.h"
+#include "processing/io/yaml_map.h"
+#include "sim/sim_station.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts::sim {
+namespace {
+
+TEST(Truth, DirectoryHoldsTheSceneTheRigAndTheRightGrids) {
+  SimStationOptions options;
+  options.scene = "forest";
+  options.seed = 11;
+  options.stage_height_m = 1.4;
+  const auto station = *BuildSimStation(options);
+  testing::TempDir dir;
+  ASSERT_TRUE(WriteTruthDirectory(station->scene, station->rig, dir / "truth").ok());
+
+  const Result<Raster> dem = ReadGeoTiff(dir / "truth/dem.tif");
+  ASSERT_TRUE(dem.ok()) << dem.error();
+  EXPECT_EQ(dem->cols, 120);
+  EXPECT_DOUBLE_EQ(dem->cell_m, 1.0);
+  EXPECT_DOUBLE_EQ(dem->min_x_m, -60.0);
+  for (int r = 5; r < dem->rows; r += 23)
+    for (int c = 3; c < dem->cols; c += 29)
+      EXPECT_NEAR(dem->at(r, c),
+                  station->scene.TerrainHeight(dem->CellCentreX(c), dem->CellCentreY(r)), 1e-4);
+  // The cell whose centre is nearest the station: about -1.4 m.
+  EXPECT_NEAR(dem->Interpolate(0, 0), -1.4, 0.2);
+
+  const Result<Raster> fine = ReadGeoTiff(dir / "truth/dem_fine.tif");
+  const Result<Raster> objects = ReadGeoTiff(dir / "truth/objects.tif");
+  ASSERT_TRUE(fine.ok() && objects.ok());
+  EXPECT_EQ(fine->cols, 480);
+  EXPECT_EQ(objects->cols, fine->cols);
+  double covered = 0;
+  for (float v : objects->values) covered += v;
+
+  std::ifstream in(dir / "truth/truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(in);
+  EXPECT_EQ(truth.at("scene"), "forest");
+  EXPECT_EQ(truth.at("seed"), 11);
+  EXPECT_DOUBLE_EQ(truth.at("stage_height_m").get<double>(), 1.4);
+  EXPECT_NEAR(truth.at("object_cover_fraction").get<double>(), covered / objects->values.size(),
+              1e-9);
+  EXPECT_GT(truth.at("trees").get<int>(), 10);
+
+  const Result<Calibration> cal = LoadCalibrationYaml(dir / "truth/calibration.yaml");
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_DOUBLE_EQ(cal->rig.left.k1, station->rig.truth.rig.left.k1);
+  EXPECT_TRUE(cal->LFromCamera(Side::kRight, 33, -12)
+                  .matrix()
+                  .isApprox(station->rig.truth.LFromCamera(Side::kRight, 33, -12).matrix(), 1e-12));
+}
+
+TEST(SimRig, TruthIsImperfectAndNominalKnowsOnlyTheDesign) {
+  const SimRig rig = MakeSimRig(5, 1.5);
+  EXPECT_NE(rig.truth.rig.left.k1, 0.0);
+  EXPECT_NE(rig.truth.stage.pan_zero_deg, 0.0);
+  EXPECT_NE(rig.truth.stage.levelling_x_deg, 0.0);
+  EXPECT_EQ(rig.nominal.rig.left.k1, 0.0);
+  EXPECT_EQ(rig.nominal.stage.pan_zero_deg, 0.0);
+  // The nominal levelling is the inclinometer reading, within its accuracy of the truth.
+  EXPECT_NEAR(rig.nominal.stage.levelling_x_deg, rig.truth.stage.levelling_x_deg, 0.1);
+  EXPECT_NEAR(rig.nominal.stage.height_above_mark_m, 1.5, 0.03);
+  std::string why;
+  EXPECT_TRUE(rig.truth.Check(&why)) << why;
+  EXPECT_TRUE(rig.nominal.Check(&why)) << why;
+}
+
+TEST(RenderStation, WritesAValidCompleteStationAndItsTruth) {
+  SimStationOptions options;
+  options.scene = "flat";
+  const auto station = *BuildSimStation(options);
+  StationRenderOptions render;
+  render.render.supersampling = 1;
+  render.plan.azimuths = 3;  // keep the test short; the default plan has 12
+  testing::TempDir dir;
+  int calls = 0;
+  ASSERT_TRUE(
+      RenderStationDirectory(*station, render, dir / "S", dir / "T", [&](int done, int total) {
+        EXPECT_EQ(total, 3);
+        EXPECT_EQ(done, ++calls);
+      }).ok());
+  const Result<StationManifest> m = ValidateStation(dir / "S", {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->pairs.size(), 3u);
+  EXPECT_EQ(m->image_width_px, 1392);
+  EXPECT_NEAR(m->pairs[1].readback.pan_deg, 120.0, 0.02);
+  EXPECT_LT(m->pairs[1].readback.tilt_deg, -10.0);
+  // The station gets the nominal calibration; the truth keeps the true one.
+  EXPECT_EQ(m->calibration.rig.left.k1, 0.0);
+  EXPECT_TRUE(std::filesystem::exists(dir / "T/calibration.yaml"));
+}
+
+}  // namespace
+}  // namespace ts::sim
+
+namespace ts::sim {
+namespace {
+
+// config/sim-rig.yaml must describe the simulated rig's design, or capture against `sim
+// serve` would start from the wrong geometry.
+TEST(SimRig, ConfigFileMatchesTheSimulatedDesign) {
+  const Result<Calibration> config = LoadCalibrationYaml(TS_SOURCE_DIR "/config/sim-rig.yaml");
+  ASSERT_FALSE(config.ok());  // a rig config, not a bare calibration: read its block
+  YAML::Node root = YAML::LoadFile(TS_SOURCE_DIR "/config/sim-rig.yaml");
+  const Calibration cal = ParseCalibration(YamlMap(root["calibration"], "calibration"));
+  const Calibration design = DesignCalibration(1.5);
+  for (double pan : {0.0, 130.0})
+    EXPECT_TRUE(cal.LFromCamera(Side::kRight, pan, -16)
+                    .matrix()
+                    .isApprox(design.LFromCamera(Side::kRight, pan, -16).matrix(), 1e-12));
+  EXPECT_DOUBLE_EQ(cal.rig.left.principal_distance_px, design.rig.left.principal_distance_px);
+  EXPECT_EQ(root["devices"]["left_camera"]["id"].as<std::string>(), "TS-SIM-L");
+  EXPECT_EQ(root["devices"]["stage"]["port"].as<int>(), 15020);
+}
+
+}  // namespace
+}  // namespace ts::sim
