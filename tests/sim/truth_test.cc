@@ -98,6 +98,15 @@ TEST(RenderStation, WritesAValidCompleteStationAndItsTruth) {
   // The station gets the nominal calibration; the truth keeps the true one.
   EXPECT_EQ(m->calibration.rig.left.k1, 0.0);
   EXPECT_TRUE(std::filesystem::exists(dir / "T/calibration.yaml"));
+  // Deterministic per seed: the same images again, byte for byte.
+  ASSERT_TRUE(RenderStationDirectory(*station, render, dir / "S2", dir / "T2").ok());
+  const Result<StationManifest> again = LoadStationManifest(dir / "S2");
+  ASSERT_TRUE(again.ok());
+  for (size_t i = 0; i < m->pairs.size(); ++i) {
+    EXPECT_EQ(again->pairs[i].left.sha256, m->pairs[i].left.sha256) << i;
+    EXPECT_EQ(again->pairs[i].right.sha256, m->pairs[i].right.sha256) << i;
+    EXPECT_DOUBLE_EQ(again->pairs[i].readback.pan_deg, m->pairs[i].readback.pan_deg);
+  }
 }
 
 }  // namespace

@@ -37,13 +37,14 @@ class AravisTestClient {
   }
   bool ok() const { return camera_ != nullptr; }
 
-  bool Start(int width, int height, ArvPixelFormat format, double exposure_us) {
+  bool Start(int width, int height, ArvPixelFormat format, double exposure_us, double gain = 0.0) {
     GError* error = nullptr;
     // As root Aravis would read GVSP through packet sockets, which never see loopback.
     arv_camera_gv_set_stream_options(camera_, ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);
     arv_camera_set_region(camera_, 0, 0, width, height, &error);
     if (!error) arv_camera_set_pixel_format(camera_, format, &error);
     if (!error) arv_camera_set_exposure_time(camera_, exposure_us, &error);
+    if (!error) arv_camera_set_gain(camera_, gain, &error);
     if (!error) arv_camera_set_trigger(camera_, "Software", &error);
     if (!error) stream_ = arv_camera_create_stream(camera_, nullptr, nullptr, &error);
     if (error) {

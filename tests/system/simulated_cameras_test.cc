@@ -20,13 +20,15 @@ class SimulatedCameras : public ::testing::Test {
     options.seed = 2;
     station_ = *BuildSimStation(options);
   }
-  static cv::Mat Offline(Side side, const StagePose& pose, double exposure_us, PixelFormat format) {
+  static cv::Mat Offline(Side side, const StagePose& pose, double exposure_us, PixelFormat format,
+                         double gain_db = 0.0) {
     Renderer renderer(station_->scene, station_->mesh);
     FrameRequest r;
     r.side = side;
     r.pan_deg = pose.pan_deg;
     r.tilt_deg = pose.tilt_deg;
     r.exposure_us = exposure_us;
+    r.gain_db = gain_db;
     r.format = format;
     return RenderFrame(renderer, *station_, r);
   }
@@ -58,7 +60,8 @@ TEST_F(SimulatedCameras, TriggeredFramesEqualTheOfflineRender) {
   }
 }
 
-TEST_F(SimulatedCameras, Mono16AndExposureAreHonoured) {
+// The fake camera's gain is the integer GainRaw (0-10); the simulator reads it as dB.
+TEST_F(SimulatedCameras, Mono16ExposureAndGainAreHonoured) {
   auto server = SimServer::Start(station_, Options(15131));
   ASSERT_TRUE(server.ok()) << server.error();
   const StagePose pose = (*server)->stage().Pose();
