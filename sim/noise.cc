@@ -14,45 +14,12 @@ inline int32_t FastFloor(double x) {
 inline double Fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
 inline double Lerp(double a, double b, double t) { return a + t * (b - a); }
 
-// Weight of an octave of wavelength w seen through a footprint f: 1 when w >= 4f, 0 when
-// w <= 2f, smooth in between.
-inline double OctaveWeight(double wavelength, double footprint) {
-  const double t = (wavelength / footprint - 2.0) * 0.5;
+// 0 when the octave is shorter than two footprints, 1 from four footprints up, smooth between.
+inline double OctaveWeight(double wavelength, double inverse_footprint) {
+  const double t = (wavelength * inverse_footprint - 2.0) * 0.5;
   if (t <= 0.0) return 0.0;
   if (t >= 1.0) return 1.0;
   return t * t * (3.0 - 2.0 * t);
-}
-
-constexpr int kMaxOctaves = 24;
-struct OctaveRotations {
-  double cos[kMaxOctaves], sin[kMaxOctaves];
-  OctaveRotations() {
-    for (int i = 0; i < kMaxOctaves; ++i) {
-      cos[i] = std::cos(0.61 * i);
-      sin[i] = std::sin(0.61 * i);
-    }
-  }
-};
-
-template <typename Octave>
-double SumOctaves(double footprint_m, const FractalOptions& o, Octave octave) {
-  double sum = 0.0, norm = 0.0, amplitude = 1.0;
-  const int end = o.first_octave + o.octave_count;
-  bool cut = false;
-  int index = 0;
-  for (double w = o.longest_m; w >= o.shortest_m * 0.999; w *= 0.5, amplitude *= o.gain, ++index) {
-    norm += amplitude * amplitude;
-    if (cut || index < o.first_octave || index >= end) continue;
-    const double weight = OctaveWeight(w, footprint_m);
-    if (weight <= 0.0) {
-      cut = true;  // shorter octaves are cut too
-      continue;
-    }
-    sum += weight * amplitude * octave(1.0 / w, index);
-  }
-  // Value noise has a standard deviation of about 0.3 per octave; keep the sum comparable
-  // whether or not short octaves were cut (the cut removes their variance, as blur would).
-  return norm > 0.0 ? sum / std::sqrt(norm) : 0.0;
 }
 
 }  // namespace
@@ -81,22 +48,47 @@ double ValueNoise3(uint64_t seed, double x, double y, double z) {
   return Lerp(plane[0], plane[1], tz);
 }
 
-double Fractal2(uint64_t seed, double x, double y, double footprint_m, const FractalOptions& o) {
-  return SumOctaves(footprint_m, o, [&](double frequency, int index) {
-    // A rotation per octave keeps lattice axes from lining up across octaves.
-    static const OctaveRotations rotations;
-    const double c = rotations.cos[index % kMaxOctaves], s = rotations.sin[index % kMaxOctaves];
-    return ValueNoise2(seed + index, frequency * (c * x - s * y) + 17.3 * index,
-                       frequency * (s * x + c * y) - 9.1 * index);
-  });
+FractalPlan::FractalPlan(const FractalOptions& o) {
+  double norm = 0.0, amplitude = 1.0;
+  int index = 0;
+  for (double w = o.longest_m; w >= o.shortest_m * 0.999; w *= 0.5, amplitude *= o.gain, ++index) {
+    norm += amplitude * amplitude;
+    if (index < o.first_octave || index >= o.first_octave + o.octave_count) continue;
+    // A rotation and offset per octave keep lattice axes and origins from lining up.
+    const double angle = 0.61 * index;
+    octaves.push_back({index, w, 1.0 / w, amplitude, std::cos(angle), std::sin(angle), 17.3 * index,
+                       -9.1 * index});
+  }
+  // Value noise has a standard deviation of about 0.3 per octave; the sum is normalised over
+  // all octaves, so a footprint cut removes the cut octaves' variance, as blur would.
+  inverse_norm = norm > 0.0 ? 1.0 / std::sqrt(norm) : 0.0;
+}
+
+double Fractal2(uint64_t seed, double x, double y, double footprint_m, const FractalPlan& plan) {
+  const double inverse_footprint = 1.0 / footprint_m;
+  double sum = 0.0;
+  for (const FractalPlan::Octave& o : plan.octaves) {
+    const double weight = OctaveWeight(o.wavelength_m, inverse_footprint);
+    if (weight <= 0.0) break;  // shorter octaves are cut too
+    const double u = o.frequency * (o.cos_angle * x - o.sin_angle * y) + o.offset_x;
+    const double v = o.frequency * (o.sin_angle * x + o.cos_angle * y) + o.offset_y;
+    sum += weight * o.amplitude * ValueNoise2(seed + o.index, u, v);
+  }
+  return sum * plan.inverse_norm;
 }
 
 double Fractal3(uint64_t seed, double x, double y, double z, double footprint_m,
-                const FractalOptions& o) {
-  return SumOctaves(footprint_m, o, [&](double frequency, int index) {
-    return ValueNoise3(seed + index, frequency * x + 17.3 * index, frequency * y - 9.1 * index,
-                       frequency * z + 3.7 * index);
-  });
+                const FractalPlan& plan) {
+  const double inverse_footprint = 1.0 / footprint_m;
+  double sum = 0.0;
+  for (const FractalPlan::Octave& o : plan.octaves) {
+    const double weight = OctaveWeight(o.wavelength_m, inverse_footprint);
+    if (weight <= 0.0) break;
+    sum += weight * o.amplitude *
+           ValueNoise3(seed + o.index, o.frequency * x + o.offset_x, o.frequency * y + o.offset_y,
+                       o.frequency * z + 3.7 * o.index);
+  }
+  return sum * plan.inverse_norm;
 }
 
 }  // namespace ts::sim

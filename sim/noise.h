@@ -3,6 +3,7 @@
 // scene uses, so there is no tile a matcher could lock onto) and band-limited fractal sums.
 // Pure functions of (seed, position): the same world point looks the same from every camera.
 #include <cstdint>
+#include <vector>
 
 namespace ts::sim {
 
@@ -54,8 +55,27 @@ struct FractalOptions {
   int first_octave = 0;
   int octave_count = 64;
 };
-double Fractal2(uint64_t seed, double x, double y, double footprint_m, const FractalOptions& o);
+
+// The octaves of a FractalOptions, computed once: wavelengths, frequencies, rotations,
+// amplitudes and the normalisation. Build one per texture (static) and pass it per sample.
+class FractalPlan {
+ public:
+  explicit FractalPlan(const FractalOptions& options);
+  struct Octave {
+    int index;  // octave number, 0 = longest
+    double wavelength_m, frequency, amplitude, cos_angle, sin_angle, offset_x, offset_y;
+  };
+  std::vector<Octave> octaves;  // only those in [first_octave, first_octave + octave_count)
+  double inverse_norm = 1.0;
+};
+
+double Fractal2(uint64_t seed, double x, double y, double footprint_m, const FractalPlan& plan);
 double Fractal3(uint64_t seed, double x, double y, double z, double footprint_m,
-                const FractalOptions& o);
+                const FractalPlan& plan);
+// Convenience for one-off use (builds the plan each call).
+inline double Fractal2(uint64_t seed, double x, double y, double footprint_m,
+                       const FractalOptions& o) {
+  return Fractal2(seed, x, y, footprint_m, FractalPlan(o));
+}
 
 }  // namespace ts::sim
