@@ -94,6 +94,10 @@ void SimulatedStage::ApplyCommands() {
   for (const auto& [base, axis] :
        {std::pair{reg::kPanBase, &pan_}, std::pair{reg::kTiltBase, &tilt_}}) {
     uint16_t& command = mapping_->tab_registers[base + reg::kCommand];
+    if (command == reg::kStart || command == reg::kHome) {
+      // Both axes' commands arrive in separate requests: announce once both are in.
+      announce_in_ticks_ = 4;
+    }
     switch (command) {
       case reg::kStart:
         axis->Start(static_cast<int32_t>(Get32(mapping_, base + reg::kTarget)) / 1000.0,

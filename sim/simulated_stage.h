@@ -47,7 +47,8 @@ class SimulatedStage {
   Result<std::string> ServePty();
   // Encoder readings of the axes now (what the actual-position registers hold, unrounded).
   StagePose Pose() const;
-  // Called (on the physics thread) whenever both axes have come to rest.
+  // Called (on the physics thread) with the pose where the axes will come to rest, shortly
+  // after a move starts (so a simulated camera can render ahead) and again when they have.
   void SetOnSettled(std::function<void(const StagePose&)> callback);
   void Stop();
 
@@ -66,6 +67,7 @@ class SimulatedStage {
   AxisDynamics pan_, tilt_;
   _modbus_mapping_t* mapping_ = nullptr;
   std::function<void(const StagePose&)> on_settled_;
+  int announce_in_ticks_ = -1;  // counts down to announcing the goal of a new move
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;
   std::vector<void*> contexts_;

@@ -31,6 +31,8 @@ class AxisDynamics {
 
   double position_deg() const { return position_ + wobble_; }
   double target_deg() const { return target_; }
+  // Where the axis will come to rest: the target plus this move's positioning error.
+  double goal_deg() const { return goal_; }
   bool moving() const { return phase_ == Phase::kMoving || phase_ == Phase::kStalled; }
   bool in_position() const { return phase_ == Phase::kIdle && !alarm_; }
   bool settling() const { return phase_ == Phase::kSettling; }

@@ -14,5 +14,7 @@ class CommandError : public std::runtime_error {
 void AddAccuracyCommand(CLI::App& app);
 void AddValidateCommand(CLI::App& app);
 void AddSimCommand(CLI::App& app);
+void AddCaptureCommand(CLI::App& app);
+void AddDevicesCommand(CLI::App& app);
 
 }  // namespace ts

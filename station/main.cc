@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   ts::AddAccuracyCommand(app);
   ts::AddValidateCommand(app);
   ts::AddSimCommand(app);
+  ts::AddCaptureCommand(app);
+  ts::AddDevicesCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,68 @@
+#pragma once
+// The capture sequencer: moves the stage through the capture plan and stores one verified
+// stereo pair per pose in a station directory (DESIGN.md "Station directory").
+//
+//   for each pose not yet captured:
+//     wait in position (read back) -> trigger both cameras -> grab both -> verify (status,
+//     size, exposure; retake with a corrected exposure, both cameras locked together) ->
+//     start the move to the next pose -> write both images atomically -> commit the pair to
+//     the manifest
+//
+// The stage moves while the pair just taken is written. The manifest is written before the
+// first pair and after every pair, so a capture stopped at any moment (power, kill -9, a lost
+// camera) leaves a station directory that validates, and `resume` captures exactly the
+// missing pairs. Errors name the device and the pair.
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "acquisition/exposure_control.h"
+#include "acquisition/rig_config.h"
+#include "devices/camera.h"
+#include "devices/stage.h"
+#include "processing/geometry/capture_plan.h"
+
+namespace ts {
+
+struct CaptureOptions {
+  CapturePlanOptions plan;
+  ExposureOptions exposure;
+  double initial_exposure_us = 8000.0;
+  double gain_db = 0.0;
+  PixelFormat format = PixelFormat::kMono8;
+  double position_tolerance_deg = 0.05;
+  std::chrono::milliseconds home_timeout{30000};
+  std::chrono::milliseconds move_timeout{20000};
+  std::chrono::milliseconds frame_timeout{3000};
+  int frame_attempts = 3;  // triggers per pair before a camera counts as lost
+  int max_retakes = 4;     // exposure corrections per pair
+  std::chrono::milliseconds reconnect_budget{6000};
+  bool Check(std::string* why) const;
+};
+
+enum class CaptureEventKind { kStarted, kMoving, kPairCaptured, kRetake, kFrameRetry, kFinished };
+
+struct CaptureEvent {
+  CaptureEventKind kind = CaptureEventKind::kStarted;
+  int pair = -1;  // plan index
+  int total = 0;
+  std::string message;
+};
+
+struct CaptureSummary {
+  int total_pairs = 0;
+  int captured_now = 0;
+  int already_present = 0;
+  int retakes = 0;        // exposure corrections
+  int frame_retries = 0;  // re-triggers after a lost or incomplete frame
+  double seconds = 0.0;
+  double exposure_us = 0.0;  // of the last pair
+};
+
+Result<CaptureSummary> CaptureStation(
+    Stage& stage, Camera& left, Camera& right, const RigConfig& rig, const std::string& station_dir,
+    bool resume, const CaptureOptions& options,
+    const std::function<void(const CaptureEvent&)>& progress = {});
+
+}  // namespace ts

@@ -1,0 +1,62 @@
+#pragma once
+// A machine-vision camera, as the acquisition layer sees it. One implementation talks GigE
+// Vision / USB3 Vision through Aravis (aravis_camera.h).
+//
+// Lifecycle: open (backend factory) -> Configure() -> Start() -> {Trigger(), WaitFrame()}...
+// -> Stop(). After a lost control channel, Reconnect() re-opens and re-applies the settings.
+// Every call returns a Status/Result; none throws. Not thread-safe: one owner thread (two
+// cameras may be driven from two threads).
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "processing/common/result.h"
+#include "processing/io/image_file.h"
+
+namespace ts {
+
+struct CameraSettings {
+  int width_px = 0;   // 0: the sensor's full width
+  int height_px = 0;  // 0: the sensor's full height
+  PixelFormat format = PixelFormat::kMono8;
+  double exposure_us = 8000.0;
+  double gain_db = 0.0;
+  bool hardware_trigger = false;  // Line1 rising edge instead of software trigger
+  int packet_size_bytes = 0;      // GigE Vision packet size; 0 = negotiate
+  int stream_buffers = 4;         // at least 4
+  bool Check(std::string* why) const;
+};
+
+struct FrameStatistics {
+  uint64_t resent_packets = 0;   // packets asked for again and received, for this frame
+  uint64_t missing_packets = 0;  // packets never received, for this frame
+};
+
+struct Frame {
+  cv::Mat image;  // CV_8UC1 or CV_16UC1, owned
+  uint64_t frame_id = 0;
+  int64_t timestamp_ns = 0;  // camera timestamp
+  double exposure_us = 0.0;
+  double gain_db = 0.0;
+  FrameStatistics statistics;
+};
+
+class Camera {
+ public:
+  virtual ~Camera() = default;
+  virtual std::string Describe() const = 0;  // "camera TS-SIM-L (127.0.0.1)"
+  virtual Status Configure(const CameraSettings& settings) = 0;
+  virtual Status Start() = 0;
+  virtual Status Stop() = 0;
+  // Exposure and gain while running (the capture locks both cameras to the same values).
+  virtual Status SetExposure(double exposure_us, double gain_db) = 0;
+  virtual Status Trigger() = 0;
+  // The next complete frame; an error for a timeout or an incomplete frame (named).
+  virtual Result<Frame> WaitFrame(std::chrono::milliseconds timeout) = 0;
+  virtual bool ControlLost() const = 0;
+  virtual Status Reconnect(std::chrono::milliseconds timeout) = 0;
+};
+
+}  // namespace ts

@@ -1,0 +1,64 @@
+#pragma once
+// The 2-axis rotary stage, as the acquisition layer sees it. One implementation talks Modbus
+// (modbus_stage.h); tests may put an in-process fake behind the same interface.
+//
+// Lifecycle: open (backend factory) -> Identify() -> Home() -> MoveTo()/StartMove()+
+// WaitInPosition() ... -> destroy. Every call returns a Status/Result and never throws or
+// aborts: a crash could leave the stage moving. Not thread-safe: one owner thread.
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "processing/common/result.h"
+#include "processing/geometry/capture_plan.h"
+
+namespace ts {
+
+enum class Axis { kPan, kTilt };
+const char* AxisName(Axis axis);
+
+struct StageInfo {
+  uint16_t model_id = 0;
+  uint16_t protocol_version = 0;
+  uint32_t serial = 0;
+  double inclinometer_x_deg = 0.0;  // levelling error the stage measures
+  double inclinometer_y_deg = 0.0;
+  double temperature_c = 0.0;
+};
+
+struct AxisState {
+  double position_deg = 0.0;  // encoder reading
+  uint16_t status = 0;        // stage_registers::StatusBit
+  uint16_t alarm_code = 0;
+  bool homed() const;
+  bool moving() const;
+  bool in_position() const;
+  bool alarm() const;
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  virtual std::string Describe() const = 0;  // "Modbus TCP 127.0.0.1:15020 unit 1"
+  virtual Result<StageInfo> Identify() = 0;
+  virtual Result<AxisState> ReadAxis(Axis axis) = 0;
+  // Homes both axes and waits until both report HOMED and IN_POSITION.
+  virtual Status Home(std::chrono::milliseconds timeout) = 0;
+  // Commands an absolute move of both axes (idempotent; confirmed by reading the targets back)
+  // and returns without waiting.
+  virtual Status StartMove(const StagePose& target) = 0;
+  // Waits until both axes are IN_POSITION within tolerance of the last target; fails on an
+  // alarm, a stall (no progress while MOVING) or the timeout, stopping the stage first.
+  virtual Result<StagePose> WaitInPosition(double tolerance_deg,
+                                           std::chrono::milliseconds timeout) = 0;
+  virtual Status Stop() = 0;
+  virtual Status ResetAlarms() = 0;
+
+  Result<StagePose> MoveTo(const StagePose& target, double tolerance_deg,
+                           std::chrono::milliseconds timeout) {
+    if (Status s = StartMove(target); !s) return Error{s.error()};
+    return WaitInPosition(tolerance_deg, timeout);
+  }
+};
+
+}  // namespace ts

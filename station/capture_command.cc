@@ -1,0 +1,88 @@
+// topostation capture --rig RIG.yaml --out STATION [--resume]: the 12-pair panorama over the
+// real drivers (Aravis cameras, Modbus stage) into a station directory.
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "acquisition/capture.h"
+#include "devices/aravis_camera.h"
+#include "devices/modbus_stage.h"
+#include "station/commands.h"
+
+namespace ts {
+namespace {
+
+struct CaptureArgs {
+  std::string rig_file;
+  std::string out;
+  bool resume = false;
+  bool json = false;
+  bool mono16 = false;
+  int azimuths = 12;
+  double exposure_us = 8000.0;
+};
+
+void Run(const CaptureArgs& args) {
+  const Result<RigConfig> rig = LoadRigConfig(args.rig_file);
+  if (!rig) throw CommandError(rig.error());
+  auto stage = OpenModbusStage(rig->stage);
+  if (!stage) throw CommandError(stage.error());
+  auto left = OpenAravisCamera(rig->left_camera);
+  if (!left) throw CommandError(left.error());
+  auto right = OpenAravisCamera(rig->right_camera);
+  if (!right) throw CommandError(right.error());
+  CaptureOptions options;
+  options.plan.azimuths = args.azimuths;
+  options.initial_exposure_us = args.exposure_us;
+  options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
+  const bool tty = ::isatty(STDERR_FILENO) && !args.json;
+  auto progress = [tty](const CaptureEvent& e) {
+    if (!tty) return;
+    if (e.kind == CaptureEventKind::kStarted) std::fprintf(stderr, "%s\n", e.message.c_str());
+    if (e.kind == CaptureEventKind::kPairCaptured)
+      std::fprintf(stderr, "\rpair %02d captured (%d pairs in the plan)", e.pair, e.total);
+    if (e.kind == CaptureEventKind::kRetake)
+      std::fprintf(stderr, "\npair %02d retaken: %s\n", e.pair, e.message.c_str());
+    if (e.kind == CaptureEventKind::kFrameRetry)
+      std::fprintf(stderr, "\npair %02d triggered again: %s\n", e.pair, e.message.c_str());
+    if (e.kind == CaptureEventKind::kFinished) std::fprintf(stderr, "\n");
+  };
+  const Result<CaptureSummary> s =
+      CaptureStation(**stage, **left, **right, *rig, args.out, args.resume, options, progress);
+  if (!s) throw CommandError(s.error());
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json{{"station", args.out},
+                                       {"total_pairs", s->total_pairs},
+                                       {"captured_now", s->captured_now},
+                                       {"already_present", s->already_present},
+                                       {"retakes", s->retakes},
+                                       {"frame_retries", s->frame_retries},
+                                       {"exposure_us", s->exposure_us},
+                                       {"seconds", s->seconds}}
+                            .dump()
+                            .c_str());
+  } else {
+    std::printf("%s: %d of %d pairs captured now (%d already there) in %.1f s\n", args.out.c_str(),
+                s->captured_now, s->total_pairs, s->already_present, s->seconds);
+  }
+}
+
+}  // namespace
+
+void AddCaptureCommand(CLI::App& app) {
+  auto args = std::make_shared<CaptureArgs>();
+  CLI::App* cmd =
+      app.add_subcommand("capture", "Capture the stereo panorama with the rig's cameras and stage");
+  cmd->add_option("--rig", args->rig_file, "rig config (YAML)")->required();
+  cmd->add_option("--out", args->out, "station directory")->required();
+  cmd->add_flag("--resume", args->resume, "complete an interrupted station");
+  cmd->add_option("--azimuths", args->azimuths, "poses in the panorama (default 12)");
+  cmd->add_option("--exposure-us", args->exposure_us, "starting exposure (default 8000)");
+  cmd->add_flag("--mono16", args->mono16, "16-bit images");
+  cmd->add_flag("--json", args->json, "print the summary as JSON");
+  cmd->callback([args] { Run(*args); });
+}
+
+}  // namespace ts
