@@ -116,10 +116,12 @@ class Sequencer {
     int failures[2] = {0, 0};
     for (int attempt = 0; attempt < o_.frame_attempts; ++attempt) {
       if (attempt > 0) ++summary_->frame_retries;
-      Status t = left_.Trigger();
-      if (t) t = right_.Trigger();
-      Result<Frame> l = t ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{t.error()});
-      Result<Frame> r = t ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{t.error()});
+      // Each camera answers for itself: a trigger the right camera missed says nothing about
+      // the left one (whose frame, if any, is waited for and dropped with the pair).
+      const Status tl = left_.Trigger();
+      const Status tr = right_.Trigger();
+      Result<Frame> l = tl ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tl.error()});
+      Result<Frame> r = tr ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tr.error()});
       if (l && r) return std::pair{std::move(*l), std::move(*r)};
       last_error = !l ? l.error() : r.error();
       Emit({CaptureEventKind::kFrameRetry, index, 0, last_error});

@@ -28,6 +28,7 @@ bool CameraSettings::Check(std::string* why) const {
 namespace {
 
 constexpr std::chrono::milliseconds kArmTime{150};
+constexpr std::chrono::milliseconds kControlWait{8000};
 
 std::string Text(const char* s) { return s ? s : ""; }
 
@@ -59,6 +60,11 @@ class AravisCamera : public Camera {
     GError* error = nullptr;
     camera_ = arv_camera_new(id.c_str(), &error);
     if (!camera_) return Error{Describe() + ": cannot open: " + TakeError(&error)};
+    if (Status s = TakeControl(); !s) {
+      g_object_unref(camera_);
+      camera_ = nullptr;
+      return s;
+    }
     control_lost_ = false;
     g_signal_connect(arv_camera_get_device(camera_), "control-lost", G_CALLBACK(OnControlLost),
                      this);
@@ -66,6 +72,25 @@ class AravisCamera : public Camera {
   }
 
   std::string Describe() const override { return "camera " + endpoint_.id; }
+
+  // A GigE Vision device obeys one controller. After a controller dies (kill -9, power) the
+  // device keeps serving it until its heartbeat times out (typically 3 s), ignoring every
+  // write of a newcomer, stream destination included: wait for control, or fail clearly.
+  Status TakeControl() {
+    if (!arv_camera_is_gv_device(camera_)) return {};
+    ArvGvDevice* device = ARV_GV_DEVICE(arv_camera_get_device(camera_));
+    const auto deadline = std::chrono::steady_clock::now() + kControlWait;
+    while (!arv_gv_device_is_controller(device)) {
+      if (std::chrono::steady_clock::now() > deadline)
+        return Error{Describe() + ": another application controls it (still after " +
+                     std::to_string(kControlWait.count()) + " ms)"};
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      GError* error = nullptr;
+      arv_gv_device_take_control(device, &error);
+      g_clear_error(&error);
+    }
+    return {};
+  }
 
   Status Configure(const CameraSettings& settings) override {
     std::string why;
@@ -81,12 +106,17 @@ class AravisCamera : public Camera {
     GError* error = nullptr;
     stream_ = arv_camera_create_stream(camera_, nullptr, nullptr, &error);
     if (!stream_) return Error{Describe() + ": cannot create stream: " + TakeError(&error)};
-    if (ARV_IS_GV_STREAM(stream_)) {
-      g_object_set(stream_, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, "packet-resend",
-                   ARV_GV_STREAM_PACKET_RESEND_ALWAYS, nullptr);
-    }
     const size_t payload = arv_camera_get_payload(camera_, &error);
     if (error) return Error{Describe() + ": " + TakeError(&error)};
+    if (ARV_IS_GV_STREAM(stream_)) {
+      // Room for three frames, not Aravis's "auto" (one payload): the kernel charges each
+      // datagram's overhead too, so a one-payload buffer overflows within a frame whenever
+      // the receiving thread is held up for a moment, and a device that cannot resend (as
+      // Aravis's own fake camera) then loses the frame. The kernel caps it at rmem_max.
+      g_object_set(stream_, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
+                   "socket-buffer-size", static_cast<gint>(3 * payload), "packet-resend",
+                   ARV_GV_STREAM_PACKET_RESEND_ALWAYS, nullptr);
+    }
     for (int i = 0; i < settings_.stream_buffers; ++i)
       arv_stream_push_buffer(stream_, arv_buffer_new(payload, nullptr));
     arv_camera_start_acquisition(camera_, &error);
@@ -232,6 +262,10 @@ class AravisCamera : public Camera {
   Status Apply() {
     if (!camera_) return Error{Describe() + ": not open"};
     GError* error = nullptr;
+    // A controller that died (kill -9, power) leaves the camera streaming to its old port;
+    // stopping first makes the device forget that destination.
+    arv_camera_stop_acquisition(camera_, &error);
+    g_clear_error(&error);
     if (arv_camera_is_gv_device(camera_)) {
       // As root Aravis reads GVSP through packet sockets, which never see loopback traffic.
       arv_camera_gv_set_stream_options(camera_, ARV_GV_STREAM_OPTION_PACKET_SOCKET_DISABLED);

@@ -1,0 +1,273 @@
+// Capture over the real drivers (Aravis, libmodbus) against the simulated station on loopback:
+// a complete panorama, and each failure the field will bring (DESIGN.md "Reliability").
+#include "acquisition/capture.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "devices/aravis_camera.h"
+#include "devices/modbus_stage.h"
+#include "processing/io/station_validator.h"
+#include "sim/sim_server.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+using namespace std::chrono_literals;
+
+class CaptureTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sim::SimStationOptions options;
+    options.scene = "hills";
+    options.seed = 4;
+    station_ = *sim::BuildSimStation(options);
+  }
+
+  // Starts the simulated hardware with faults; the stage on a port of its own.
+  void Serve(int port, const sim::SimFaults& faults = {}) {
+    sim::SimServeOptions o;
+    o.stage_port = port;
+    o.faults = faults;
+    auto server = sim::SimServer::Start(station_, o);
+    ASSERT_TRUE(server.ok()) << server.error();
+    server_ = std::move(*server);
+    port_ = port;
+  }
+
+  // A rig config for the simulated rig at the served endpoints (TCP, or RTU on the pty).
+  std::string WriteRig(bool rtu = false) {
+    const std::string file = dir_ / "rig.yaml";
+    std::ifstream in(TS_SOURCE_DIR "/config/sim-rig.yaml");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const std::string tcp = "{transport: tcp, host: 127.0.0.1, port: 15020, unit_id: 1}";
+    const std::string stage =
+        rtu ? "{transport: rtu, device: " + server_->Endpoints()["stage_rtu"].get<std::string>() +
+                  ", rs485: true}"
+            : "{transport: tcp, host: 127.0.0.1, port: " + std::to_string(port_) + "}";
+    text.replace(text.find(tcp), tcp.size(), stage);
+    std::ofstream(file) << text;
+    return file;
+  }
+
+  struct Devices {
+    std::unique_ptr<Stage> stage;
+    std::unique_ptr<Camera> left, right;
+  };
+  Devices Open(const RigConfig& rig) {
+    Devices d;
+    auto stage = OpenModbusStage(rig.stage);
+    auto left = OpenAravisCamera(rig.left_camera);
+    auto right = OpenAravisCamera(rig.right_camera);
+    EXPECT_TRUE(stage.ok() && left.ok() && right.ok());
+    if (stage) d.stage = std::move(*stage);
+    if (left) d.left = std::move(*left);
+    if (right) d.right = std::move(*right);
+    return d;
+  }
+
+  Result<CaptureSummary> Capture(const std::string& rig_file, bool resume,
+                                 const CaptureOptions& options) {
+    const Result<RigConfig> rig = LoadRigConfig(rig_file);
+    if (!rig) return Error{rig.error()};
+    Devices d = Open(*rig);
+    if (!d.stage || !d.left || !d.right) return Error{"devices did not open"};
+    return CaptureStation(*d.stage, *d.left, *d.right, *rig, dir_ / "S", resume, options);
+  }
+
+  static CaptureOptions Short(int azimuths) {
+    CaptureOptions o;
+    o.plan.azimuths = azimuths;
+    o.initial_exposure_us = 4000;
+    return o;
+  }
+
+  static std::shared_ptr<const sim::SimStation> station_;
+  testing::TempDir dir_;
+  std::unique_ptr<sim::SimServer> server_;
+  int port_ = 0;
+};
+std::shared_ptr<const sim::SimStation> CaptureTest::station_;
+
+TEST_F(CaptureTest, CapturesACompleteValidPanorama) {
+  Serve(15150);
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, CaptureOptions{});
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(s->total_pairs, 12);
+  EXPECT_EQ(s->captured_now, 12);
+  const Result<StationManifest> m = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  for (const PairRecord& p : m->pairs) {
+    EXPECT_NEAR(p.readback.pan_deg, p.commanded.pan_deg, 0.05);
+    EXPECT_NEAR(p.readback.tilt_deg, p.commanded.tilt_deg, 0.05);
+  }
+  // The stage's inclinometer reading is the station's levelling.
+  EXPECT_NEAR(m->calibration.stage.levelling_x_deg, station_->rig.inclinometer_x_deg, 1e-4);
+  const PairRecord& p = m->pairs[3];
+  const Result<cv::Mat> image =
+      ReadMonoPng(dir_ / ("S/" + p.left.file), PixelFormat::kMono8, 1392, 1040);
+  ASSERT_TRUE(image.ok());
+  EXPECT_GT(cv::mean(*image)[0], 30.0);
+}
+
+TEST_F(CaptureTest, ModbusNoiseOnTheSerialLineIsRetriedAway) {
+  sim::SimFaults faults;
+  faults.modbus_crc = 0.05;
+  faults.modbus_drop = 0.02;
+  Serve(15151, faults);
+  const Result<CaptureSummary> s = Capture(WriteRig(/*rtu=*/true), false, Short(4));
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_TRUE(ValidateStation(dir_ / "S", {.require_complete = true}).ok());
+}
+
+TEST_F(CaptureTest, StageAlarmStopsWithAClearError) {
+  sim::SimFaults faults;
+  faults.stage_alarm = sim::AxisFault{true, 2};  // home, first pose, then the alarm
+  Serve(15152, faults);
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, Short(4));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("pan axis alarm: overload (code 1)"), std::string::npos) << s.error();
+  EXPECT_NE(s.error().find("stage stopped"), std::string::npos);
+  EXPECT_NE(s.error().find("moving to pair 01"), std::string::npos) << s.error();
+  const Result<StationManifest> m = ValidateStation(dir_ / "S");
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->pairs.size(), 1u);
+}
+
+TEST_F(CaptureTest, StageStallStopsWithAClearError) {
+  sim::SimFaults faults;
+  faults.stage_stall = sim::AxisFault{false, 1};  // tilt: homing works, the first move stalls
+  Serve(15153, faults);
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, Short(4));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("tilt axis stalled"), std::string::npos) << s.error();
+  EXPECT_TRUE(ValidateStation(dir_ / "S").ok());
+}
+
+TEST_F(CaptureTest, LostCameraStopsAndResumeCompletesWithoutDuplicates) {
+  sim::SimFaults faults;
+  faults.camera_gone = sim::CameraGoneFault{Side::kRight, 7.0, 25.0};
+  Serve(15154, faults);
+  const std::string rig = WriteRig();
+  CaptureOptions o = Short(8);
+  // A retry budget (about 10 s here) well inside the 25 s outage.
+  o.frame_attempts = 2;
+  o.frame_timeout = 2000ms;
+  o.reconnect_budget = 2000ms;
+  const Result<CaptureSummary> first = Capture(rig, false, o);
+  ASSERT_FALSE(first.ok()) << "took " << first->seconds << " s";
+  EXPECT_NE(first.error().find("camera TS-SIM-R lost at pair"), std::string::npos) << first.error();
+  const Result<StationManifest> partial = ValidateStation(dir_ / "S");
+  ASSERT_TRUE(partial.ok()) << partial.error();
+  ASSERT_GT(partial->pairs.size(), 0u);
+  ASSERT_LT(partial->pairs.size(), 8u);
+  // Wait for the camera to come back, then resume.
+  for (int i = 0; i < 400 && !server_->camera(Side::kRight).running(); ++i)
+    std::this_thread::sleep_for(100ms);
+  const Result<CaptureSummary> second = Capture(rig, true, o);
+  ASSERT_TRUE(second.ok()) << second.error();
+  EXPECT_EQ(second->already_present, static_cast<int>(partial->pairs.size()));
+  EXPECT_EQ(second->captured_now, 8 - static_cast<int>(partial->pairs.size()));
+  const Result<StationManifest> done = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(done.ok()) << done.error();
+  EXPECT_EQ(done->pairs.size(), 8u);
+  for (const PairRecord& before : partial->pairs)  // what was there is untouched
+    EXPECT_EQ(done->FindPair(before.index)->left.sha256, before.left.sha256);
+}
+
+TEST_F(CaptureTest, KillNineAtRandomMomentsNeverLeavesABrokenStation) {
+  Serve(15155);
+  const std::string rig = WriteRig();
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> delay_ms(500, 9000);
+  for (int trial = 0; trial < 5; ++trial) {
+    const bool resume = std::filesystem::exists(dir_ / "S/station.json");
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const std::string out = dir_ / "S";
+      const char* argv[] = {TS_TOPOSTATION_EXE,
+                            "capture",
+                            "--rig",
+                            rig.c_str(),
+                            "--out",
+                            out.c_str(),
+                            "--azimuths",
+                            "6",
+                            "--exposure-us",
+                            "4000",
+                            resume ? "--resume" : "--json",
+                            nullptr};
+      ::execv(argv[0], const_cast<char**>(argv));
+      ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+    if (!std::filesystem::exists(dir_ / "S/station.json")) continue;  // killed before it began
+    const Result<StationManifest> m = ValidateStation(dir_ / "S");
+    ASSERT_TRUE(m.ok()) << "trial " << trial << ": " << m.error();
+  }
+  ASSERT_TRUE(std::filesystem::exists(dir_ / "S/station.json")) << "no kill came after the start";
+  const Result<CaptureSummary> s = Capture(rig, true, Short(6));
+  ASSERT_TRUE(s.ok()) << s.error();
+  const Result<StationManifest> done = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(done.ok()) << done.error();
+  EXPECT_EQ(done->pairs.size(), 6u);
+}
+
+TEST_F(CaptureTest, RefusesToOverwriteAStationAndResumeOfACompleteOneDoesNothing) {
+  Serve(15156);
+  const std::string rig = WriteRig();
+  ASSERT_TRUE(Capture(rig, false, Short(2)).ok());
+  const Result<CaptureSummary> again = Capture(rig, false, Short(2));
+  ASSERT_FALSE(again.ok());
+  EXPECT_NE(again.error().find("already holds a station"), std::string::npos);
+  const Result<CaptureSummary> resume = Capture(rig, true, Short(2));
+  ASSERT_TRUE(resume.ok()) << resume.error();
+  EXPECT_EQ(resume->captured_now, 0);
+}
+
+// The camera backend against an independent GigE Vision implementation: Aravis's stock
+// fake camera program.
+TEST(StockFakeCamera, CameraBackendGrabsATriggeredFrame) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execlp("arv-fake-gv-camera-0.8", "arv-fake-gv-camera-0.8", "-i", "127.0.0.2", "-s",
+             "GV-STOCK", nullptr);
+    ::_exit(127);
+  }
+  std::this_thread::sleep_for(800ms);
+  auto camera = OpenAravisCamera({"GV-STOCK", 0});
+  ASSERT_TRUE(camera.ok()) << camera.error();
+  CameraSettings settings;
+  settings.width_px = 512;
+  settings.height_px = 512;
+  ASSERT_TRUE((*camera)->Configure(settings).ok());
+  ASSERT_TRUE((*camera)->Start().ok());
+  Result<Frame> frame = Error{""};
+  for (int attempt = 0; attempt < 3 && !frame; ++attempt) {
+    ASSERT_TRUE((*camera)->Trigger().ok());
+    frame = (*camera)->WaitFrame(3000ms);
+  }
+  ASSERT_TRUE(frame.ok()) << frame.error();
+  EXPECT_EQ(frame->image.cols, 512);
+  EXPECT_EQ(frame->image.rows, 512);
+  double min_value, max_value;
+  cv::minMaxLoc(frame->image, &min_value, &max_value);
+  EXPECT_GT(max_value, min_value);  // the fake camera's test pattern, not an empty buffer
+  EXPECT_TRUE((*camera)->Stop().ok());
+  camera->reset();
+  ::kill(pid, SIGTERM);
+  ::waitpid(pid, nullptr, 0);
+}
+
+}  // namespace
+}  // namespace ts
