@@ -183,6 +183,19 @@ TEST_F(CaptureTest, LostCameraStopsAndResumeCompletesWithoutDuplicates) {
     EXPECT_EQ(done->FindPair(before.index)->left.sha256, before.left.sha256);
 }
 
+TEST_F(CaptureTest, CameraBackWithinTheRetryBudgetIsReconnectedAndCaptureGoesOn) {
+  sim::SimFaults faults;
+  faults.camera_gone = sim::CameraGoneFault{Side::kLeft, 6.0, 2.0};
+  Serve(15157, faults);
+  CaptureOptions o = Short(8);
+  o.frame_timeout = 2000ms;
+  o.reconnect_budget = 6000ms;
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, o);
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_GT(s->frame_retries, 0);  // the outage was seen, and survived
+  EXPECT_TRUE(ValidateStation(dir_ / "S", {.require_complete = true}).ok());
+}
+
 TEST_F(CaptureTest, KillNineAtRandomMomentsNeverLeavesABrokenStation) {
   Serve(15155);
   const std::string rig = WriteRig();
