@@ -104,9 +104,9 @@ struct PairFrames {
 
 class Sequencer {
  public:
-  Sequencer(Stage& stage, Camera& left, Camera& right, const CaptureOptions& o,
+  Sequencer(Camera& left, Camera& right, const CaptureOptions& o,
             const std::function<void(const CaptureEvent&)>& progress, CaptureSummary* summary)
-      : stage_(stage), left_(left), right_(right), o_(o), progress_(progress), summary_(summary) {}
+      : left_(left), right_(right), o_(o), progress_(progress), summary_(summary) {}
 
   double exposure_us = 0.0;
 
@@ -164,7 +164,6 @@ class Sequencer {
   }
 
  private:
-  Stage& stage_;
   Camera& left_;
   Camera& right_;
   const CaptureOptions& o_;
@@ -221,7 +220,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   std::vector<int> missing;
   for (int i = 0; i < summary.total_pairs; ++i)
     if (!m->FindPair(i)) missing.push_back(i);
-  Sequencer seq(stage, left, right, o, progress, &summary);
+  Sequencer seq(left, right, o, progress, &summary);
   seq.exposure_us = m->pairs.empty() ? o.initial_exposure_us : m->pairs.back().exposure_us;
   seq.Emit({CaptureEventKind::kStarted, -1, summary.total_pairs,
             std::to_string(missing.size()) + " of " + std::to_string(summary.total_pairs) +

@@ -201,7 +201,6 @@ class ModbusStage : public Stage {
     for (int attempt = 0; attempt <= options_.retries; ++attempt) {
       if (fn()) return {};
       last_errno = errno;
-      ++retries_;
       modbus_flush(ctx_);
       if (last_errno != EMBBADCRC && last_errno != ETIMEDOUT && last_errno != EMBBADDATA &&
           last_errno != EMBBADEXC && last_errno != EMBUNKEXC)
@@ -235,7 +234,6 @@ class ModbusStage : public Stage {
   ModbusStageOptions options_;
   StagePose target_;
   Clock::time_point move_started_ = Clock::now();
-  int retries_ = 0;
 };
 
 }  // namespace
