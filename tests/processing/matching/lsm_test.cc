@@ -1,0 +1,144 @@
+// Least-squares matching against known answers: templates made from an analytic texture by a
+// known affine and radiometric transformation, so the true parameters are exact.
+#include "processing/matching/lsm.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace ts {
+namespace {
+
+// A smooth random texture: Gaussian blobs of 1.5-4 px, values about 20-230.
+struct Texture {
+  explicit Texture(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(-10, 110), sigma(1.5, 4.0), amp(-60, 60);
+    for (int i = 0; i < 900; ++i) blobs.push_back({pos(rng), pos(rng), sigma(rng), amp(rng)});
+  }
+  double operator()(double x, double y) const {
+    double v = 128.0;
+    for (const Blob& b : blobs) {
+      const double d2 = (x - b.x) * (x - b.x) + (y - b.y) * (y - b.y);
+      if (d2 < 25 * b.s * b.s) v += b.a * std::exp(-d2 / (2 * b.s * b.s));
+    }
+    return v;
+  }
+  struct Blob {
+    double x, y, s, a;
+  };
+  std::vector<Blob> blobs;
+};
+
+cv::Mat Sampled(const Texture& t, int size) {
+  cv::Mat m(size, size, CV_32FC1);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) m.at<float>(y, x) = static_cast<float>(t(x, y));
+  return m;
+}
+
+// Template pixel (cx + x, cy + y) shows r0 + r1 F(a0 + a1 x + a2 y, b0 + b1 x + b2 y).
+cv::Mat Template(const Texture& t, const Eigen::Matrix<double, 8, 1>& p, int size, int cx, int cy) {
+  cv::Mat m(size, size, CV_32FC1, cv::Scalar(0));
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double u = x - cx, v = y - cy;
+      m.at<float>(y, x) = static_cast<float>(
+          p[6] + p[7] * t(p[0] + p[1] * u + p[2] * v, p[3] + p[4] * u + p[5] * v));
+    }
+  return m;
+}
+
+Eigen::Matrix<double, 8, 1> Params(double a0, double a1, double a2, double b0, double b1, double b2,
+                                   double r0, double r1) {
+  Eigen::Matrix<double, 8, 1> p;
+  p << a0, a1, a2, b0, b1, b2, r0, r1;
+  return p;
+}
+
+class Lsm : public ::testing::Test {
+ protected:
+  Texture texture_{3};
+  cv::Mat search_ = Sampled(texture_, 100);
+  SearchGradients gradients_ = ComputeSearchGradients(search_);
+};
+
+// Bilinear resampling of the search window biases the match by up to ~0.015 px near half-pixel
+// shifts on this texture (and lowers its contrast, which r1 absorbs): the tolerances below.
+TEST_F(Lsm, RecoversASubPixelShift) {
+  for (const auto& [dx, dy] :
+       {std::pair{0.37, -0.21}, std::pair{-0.45, 0.48}, std::pair{0.0, 0.0}}) {
+    const auto truth = Params(50 + dx, 1, 0, 47 + dy, 0, 1, 0, 1);
+    const cv::Mat templ = Template(texture_, truth, 31, 15, 15);
+    const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {51, 46});
+    ASSERT_TRUE(r.ok) << r.why;
+    EXPECT_NEAR(r.position_px.x(), 50 + dx, 0.02);
+    EXPECT_NEAR(r.position_px.y(), 47 + dy, 0.02);
+    EXPECT_GT(r.correlation, 0.999);
+  }
+}
+
+TEST_F(Lsm, RecoversAffineAndRadiometricParameters) {
+  const auto truth = Params(52.3, 1.06, 0.08, 44.7, -0.05, 0.94, 12.0, 0.8);
+  const cv::Mat templ = Template(texture_, truth, 31, 15, 15);
+  LsmOptions o;
+  o.half_window_px = 10;
+  const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {53.5, 44.0}, o);
+  ASSERT_TRUE(r.ok) << r.why;
+  EXPECT_NEAR(r.position_px.x(), 52.3, 0.02);
+  EXPECT_NEAR(r.position_px.y(), 44.7, 0.02);
+  for (int i : {1, 2, 4, 5}) EXPECT_NEAR(r.parameters[i], truth[i], 0.01) << i;
+  EXPECT_NEAR(r.parameters[7], 0.8, 0.03);
+  EXPECT_NEAR(r.parameters[6], 12.0, 4.0);
+}
+
+// The reported sigma must describe the scatter of the matched position under image noise.
+TEST_F(Lsm, SigmaDescribesTheScatterUnderNoise) {
+  const auto truth = Params(48.6, 1, 0, 51.2, 0, 1, 0, 1);
+  const cv::Mat clean = Template(texture_, truth, 31, 15, 15);
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, 3.0f);
+  double sum_err2 = 0.0, sum_sigma2 = 0.0;
+  const int trials = 200;
+  for (int i = 0; i < trials; ++i) {
+    cv::Mat templ = clean.clone();
+    for (auto it = templ.begin<float>(); it != templ.end<float>(); ++it) *it += noise(rng);
+    const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {49, 51});
+    ASSERT_TRUE(r.ok) << r.why;
+    sum_err2 += std::pow(r.position_px.x() - 48.6, 2);
+    sum_sigma2 += r.sigma_x_px * r.sigma_x_px;
+  }
+  const double ratio = std::sqrt(sum_err2 / sum_sigma2);
+  EXPECT_GT(ratio, 0.7);
+  EXPECT_LT(ratio, 1.4);
+}
+
+TEST_F(Lsm, RejectsWhatCannotBeMatched) {
+  const cv::Mat flat(60, 60, CV_32FC1, cv::Scalar(100));
+  const SearchGradients flat_gradients = ComputeSearchGradients(flat);
+  const LsmResult none = MatchLsm(flat, {30, 30}, flat, flat_gradients, {30, 30});
+  EXPECT_FALSE(none.ok);
+  EXPECT_NE(none.why.find("no texture"), std::string::npos) << none.why;
+
+  const cv::Mat templ = Template(texture_, Params(50, 1, 0, 50, 0, 1, 0, 1), 31, 15, 15);
+  const LsmResult edge = MatchLsm(templ, {3, 15}, search_, gradients_, {50, 50});
+  EXPECT_FALSE(edge.ok);
+  EXPECT_NE(edge.why.find("template window leaves the image"), std::string::npos);
+  const LsmResult outside = MatchLsm(templ, {15, 15}, search_, gradients_, {2, 50});
+  EXPECT_FALSE(outside.ok);
+  EXPECT_NE(outside.why.find("search window leaves the image"), std::string::npos);
+
+  // A different texture altogether: whatever it converges to, it is not accepted.
+  const Texture other(99);
+  const cv::Mat unrelated = Template(other, Params(50, 1, 0, 50, 0, 1, 0, 1), 31, 15, 15);
+  EXPECT_FALSE(MatchLsm(unrelated, {15, 15}, search_, gradients_, {50, 50}).ok);
+
+  LsmOptions bad;
+  bad.half_window_px = 1;
+  EXPECT_NE(
+      MatchLsm(templ, {15, 15}, search_, gradients_, {50, 50}, bad).why.find("half_window_px"),
+      std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
