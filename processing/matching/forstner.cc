@@ -1,0 +1,113 @@
+#include "processing/matching/forstner.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace ts {
+
+bool ForstnerOptions::Check(std::string* why) const {
+  std::string err;
+  if (half_window_px < 1 || half_window_px > 10)
+    err = "half_window_px must be in [1, 10]";
+  else if (!(min_roundness >= 0.0 && min_roundness <= 1.0))
+    err = "min_roundness in [0, 1]";
+  else if (!(min_weight_factor > 0.0))
+    err = "min_weight_factor must be positive";
+  else if (cell_px < 2)
+    err = "cell_px must be at least 2";
+  else if (border_px < half_window_px + 1)
+    err = "border_px must exceed half_window_px";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+namespace {
+
+// Förstner's point: argmin sum over the window of (g . (p - x))^2, i.e. N x = sum g g^T x_i.
+Eigen::Vector2d Locate(const cv::Mat& gx, const cv::Mat& gy, int cx, int cy, int h) {
+  Eigen::Matrix2d n = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d b = Eigen::Vector2d::Zero();
+  for (int y = cy - h; y <= cy + h; ++y) {
+    for (int x = cx - h; x <= cx + h; ++x) {
+      const double u = gx.at<float>(y, x), v = gy.at<float>(y, x);
+      Eigen::Matrix2d ggt;
+      ggt << u * u, u * v, u * v, v * v;
+      n += ggt;
+      b += ggt * Eigen::Vector2d(x, y);
+    }
+  }
+  const Eigen::Vector2d p = n.inverse() * b;
+  // Keep the estimate inside the pixel's window; farther means a degenerate window.
+  if (!p.allFinite() || (p - Eigen::Vector2d(cx, cy)).cwiseAbs().maxCoeff() > h)
+    return Eigen::Vector2d(cx, cy);
+  return p;
+}
+
+}  // namespace
+
+std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("Förstner: " + why);
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  cv::Mat gx, gy;
+  cv::Scharr(f, gx, CV_32F, 1, 0, 1.0 / 32.0);
+  cv::Scharr(f, gy, CV_32F, 0, 1, 1.0 / 32.0);
+  const int k = 2 * o.half_window_px + 1;
+  cv::Mat nxx, nxy, nyy;
+  cv::boxFilter(gx.mul(gx), nxx, CV_32F, {k, k}, {-1, -1}, false);
+  cv::boxFilter(gx.mul(gy), nxy, CV_32F, {k, k}, {-1, -1}, false);
+  cv::boxFilter(gy.mul(gy), nyy, CV_32F, {k, k}, {-1, -1}, false);
+  cv::Mat det = nxx.mul(nyy) - nxy.mul(nxy);
+  cv::Mat trace = nxx + nyy + 1e-12f;
+  cv::Mat w = det / trace;
+  cv::Mat q = 4.0f * det / trace.mul(trace);
+  // Robust threshold: relative to the median weight of the image interior.
+  const cv::Rect interior(o.border_px, o.border_px, std::max(1, f.cols - 2 * o.border_px),
+                          std::max(1, f.rows - 2 * o.border_px));
+  const cv::Mat inner = w(interior).clone();  // continuous
+  std::vector<float> values(inner.ptr<float>(), inner.ptr<float>() + inner.total());
+  if (values.empty()) return {};
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  const float threshold =
+      std::max(1e-6f, static_cast<float>(o.min_weight_factor) * values[values.size() / 2]);
+  // Local maxima (3 x 3), the strongest per cell, then no two closer than half a cell.
+  cv::Mat dilated;
+  cv::dilate(w, dilated, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  std::vector<InterestPoint> points;
+  for (int cy = o.border_px; cy < f.rows - o.border_px; cy += o.cell_px) {
+    for (int cx = o.border_px; cx < f.cols - o.border_px; cx += o.cell_px) {
+      int best_x = -1, best_y = -1;
+      float best = threshold;
+      for (int y = cy; y < std::min(cy + o.cell_px, f.rows - o.border_px); ++y) {
+        for (int x = cx; x < std::min(cx + o.cell_px, f.cols - o.border_px); ++x) {
+          const float v = w.at<float>(y, x);
+          if (v >= best && v == dilated.at<float>(y, x) && q.at<float>(y, x) >= o.min_roundness) {
+            best = v;
+            best_x = x;
+            best_y = y;
+          }
+        }
+      }
+      if (best_x < 0) continue;
+      points.push_back({Locate(gx, gy, best_x, best_y, o.locate_half_window_px), best,
+                        q.at<float>(best_y, best_x)});
+    }
+  }
+  std::sort(points.begin(), points.end(),
+            [](const InterestPoint& a, const InterestPoint& b) { return a.weight > b.weight; });
+  std::vector<InterestPoint> spread;
+  const double min_distance = 0.5 * o.cell_px;
+  for (const InterestPoint& p : points) {
+    bool far = true;
+    for (const InterestPoint& s : spread)
+      far = far && (s.position_px - p.position_px).squaredNorm() >= min_distance * min_distance;
+    if (far) spread.push_back(p);
+  }
+  return spread;
+}
+
+}  // namespace ts

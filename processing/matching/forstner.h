@@ -1,0 +1,39 @@
+#pragma once
+// The Förstner interest operator (Förstner & Gülch 1987), as seed 003 uses it to place dense
+// points for matching. From the structure tensor N = sum over a window of [gx^2 gxgy; gxgy
+// gy^2]: weight w = det N / trace N (how precisely a point can be located) and roundness
+// q = 4 det N / trace^2 N (1 for a corner or blob, 0 for a straight edge).
+//
+// Points are spread over the image on a grid: at most one per cell (its strongest local
+// maximum of w) and none closer than half a cell to a stronger one, so texture everywhere is
+// sampled, not only its strongest clumps. Each
+// point is located to sub-pixel precision by Förstner's estimate: the point nearest, in the
+// least-squares sense, to all the gradient lines of its window.
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace ts {
+
+struct ForstnerOptions {
+  int half_window_px = 2;          // structure-tensor window (2h+1)^2 for w and q
+  int locate_half_window_px = 4;   // window of the sub-pixel estimate: wider, so the edges
+                                   // dominate the blurred corner's own pixels
+  double min_roundness = 0.5;      // q threshold: rejects edges
+  double min_weight_factor = 1.0;  // w threshold, times the image's median w
+  int cell_px = 8;                 // grid cell: at most one point per cell (density)
+  int border_px = 8;               // no points this close to the image border
+  bool Check(std::string* why) const;
+};
+
+struct InterestPoint {
+  Eigen::Vector2d position_px{0, 0};  // sub-pixel
+  double weight = 0.0;
+  double roundness = 0.0;
+};
+
+// image: CV_8UC1, CV_16UC1 or CV_32FC1.
+std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOptions& options);
+
+}  // namespace ts
