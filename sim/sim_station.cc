@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <thread>
 
@@ -58,12 +59,13 @@ Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOption
   return std::shared_ptr<const SimStation>(std::move(station));
 }
 
-cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& r) {
+cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& r,
+                    cv::Mat* range_m) {
   const CameraIntrinsics& intrinsics =
       r.side == Side::kLeft ? station.rig.truth.rig.left : station.rig.truth.rig.right;
   const CameraModel camera(intrinsics);
   const Eigen::Isometry3d pose = station.rig.truth.LFromCamera(r.side, r.pan_deg, r.tilt_deg);
-  const cv::Mat radiance = renderer.Render(camera, pose, r.render);
+  const cv::Mat radiance = renderer.Render(camera, pose, r.render, range_m);
   const uint64_t noise_seed = Hash(station.scene.seed, r.side == Side::kLeft ? 1 : 2,
                                    std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
   return ExposeImage(radiance, intrinsics, station.rig.sensor(r.side), r.exposure_us, r.gain_db,
@@ -73,8 +75,9 @@ cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRe
 namespace {
 
 Status WritePair(const SimStation& station, const StationRenderOptions& o, Renderer renderers[2],
-                 const std::string& dir, int index, const StagePose& commanded, double pan_deg,
-                 double tilt_deg, StationManifest* manifest) {
+                 const std::string& dir, const std::string& truth_dir, int index,
+                 const StagePose& commanded, double pan_deg, double tilt_deg,
+                 StationManifest* manifest) {
   PairRecord pair;
   pair.index = index;
   pair.commanded = commanded;
@@ -83,16 +86,28 @@ Status WritePair(const SimStation& station, const StationRenderOptions& o, Rende
   pair.exposure_us = o.exposure_us;
   pair.gain_db = o.gain_db;
   pair.captured_utc = UtcNowIso8601();
-  cv::Mat images[2];
+  cv::Mat images[2], ranges[2];
+  cv::Mat* range_out[2] = {o.write_range_images ? &ranges[0] : nullptr,
+                           o.write_range_images ? &ranges[1] : nullptr};
   std::thread right([&] {
-    images[1] = RenderFrame(
-        renderers[1], station,
-        {Side::kRight, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render});
+    images[1] =
+        RenderFrame(renderers[1], station,
+                    {Side::kRight, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render},
+                    range_out[1]);
   });
-  images[0] =
-      RenderFrame(renderers[0], station,
-                  {Side::kLeft, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render});
+  images[0] = RenderFrame(
+      renderers[0], station,
+      {Side::kLeft, pan_deg, tilt_deg, o.exposure_us, o.gain_db, o.format, o.render}, range_out[0]);
   right.join();
+  if (o.write_range_images) {
+    for (Side side : {Side::kLeft, Side::kRight}) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "range/pair_%02d_%s.tif", index, SideName(side));
+      const std::string path = (std::filesystem::path(truth_dir) / name).string();
+      if (!cv::imwrite(path, ranges[side == Side::kLeft ? 0 : 1]))
+        return Error{path + ": cannot write range image"};
+    }
+  }
   for (Side side : {Side::kLeft, Side::kRight}) {
     ImageRecord& record = side == Side::kLeft ? pair.left : pair.right;
     record.file = StationManifest::ImageFileName(index, side);
@@ -135,10 +150,11 @@ Status RenderStationDirectory(const SimStation& station, const StationRenderOpti
   nlohmann::json plan = nlohmann::json::array();
   for (const StagePose& p : manifest.plan)
     plan.push_back({{"pan_deg", p.pan_deg}, {"tilt_deg", p.tilt_deg}});
-  if (Status s = WriteTruthDirectory(station.scene, station.rig, truth_dir,
-                                     {{"capture_plan", plan}, {"station_dir", station_dir}});
-      !s)
-    return s;
+  if (o.write_range_images) {
+    std::filesystem::create_directories(std::filesystem::path(truth_dir) / "range", ec);
+    if (ec) return Error{truth_dir + ": cannot create range folder: " + ec.message()};
+  }
+  nlohmann::json true_poses = nlohmann::json::array();
   std::mt19937_64 rng(Hash(station.scene.seed, 0xe7c0de, 0));
   std::normal_distribution<double> encoder(0.0, o.encoder_noise_deg);
   Renderer renderers[2] = {Renderer(station.scene, station.mesh),
@@ -147,11 +163,16 @@ Status RenderStationDirectory(const SimStation& station, const StationRenderOpti
   for (int i = 0; i < total; ++i) {
     const StagePose& p = manifest.plan[i];
     const double pan = p.pan_deg + encoder(rng), tilt = p.tilt_deg + encoder(rng);
-    if (Status s = WritePair(station, o, renderers, station_dir, i, p, pan, tilt, &manifest); !s)
+    true_poses.push_back({{"pan_deg", pan}, {"tilt_deg", tilt}});
+    if (Status s =
+            WritePair(station, o, renderers, station_dir, truth_dir, i, p, pan, tilt, &manifest);
+        !s)
       return s;
     if (progress) progress(i + 1, total);
   }
-  return {};
+  return WriteTruthDirectory(
+      station.scene, station.rig, truth_dir,
+      {{"capture_plan", plan}, {"true_poses", true_poses}, {"station_dir", station_dir}});
 }
 
 }  // namespace ts::sim

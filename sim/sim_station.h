@@ -44,7 +44,10 @@ struct FrameRequest {
   PixelFormat format = PixelFormat::kMono8;
   RenderOptions render;
 };
-cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& request);
+// range_m, if given, receives the true distance (m) from the projection centre to the surface
+// at each pixel centre (CV_32FC1, NaN for sky).
+cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& request,
+                    cv::Mat* range_m = nullptr);
 
 struct StationRenderOptions {
   double exposure_us = 8000.0;
@@ -53,11 +56,13 @@ struct StationRenderOptions {
   RenderOptions render;
   CapturePlanOptions plan;
   double encoder_noise_deg = 0.002;  // where the axes really stop around the commanded angle
+  bool write_range_images = false;   // truth/range/pair_NN_{left,right}.tif, float32 metres
   bool Check(std::string* why) const;
 };
 
 // Writes a complete station directory straight from the renderer (no hardware path) and the
-// truth directory. progress(done, total) is called after each pair.
+// truth directory; truth.json also lists the true (unrounded) encoder angles of every pair.
+// progress(done, total) is called after each pair.
 Status RenderStationDirectory(const SimStation& station, const StationRenderOptions& options,
                               const std::string& station_dir, const std::string& truth_dir,
                               const std::function<void(int, int)>& progress = {});

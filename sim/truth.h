@@ -4,7 +4,10 @@
 //   dem_fine.tif    bare earth, 0.25 m cells
 //   objects.tif     1 where a tree or bush covers the cell, 0 elsewhere (dem_fine's grid)
 //   calibration.yaml  the true calibration, in the format `process --calibration` reads
-//   truth.json      scene, seed, stage height h, sun, object counts and cover, rig errors
+//   truth.json      scene, seed, stage height h, sun, object counts and cover, rig errors;
+//                   from `sim render` also the capture plan and the true encoder angles
+//   range/pair_NN_{left,right}.tif  true range per pixel centre, float32 m, NaN for sky
+//                   (`sim render --range`)
 // Heights are point samples of exactly the rendered surface at the cell centres.
 #include <nlohmann/json.hpp>
 #include <string>

@@ -113,6 +113,8 @@ void AddSimCommand(CLI::App& app) {
   r->add_option("--supersampling", render->render.render.supersampling,
                 "samples per pixel along each axis (default 2)");
   r->add_flag("--mono16", render->mono16, "write Mono16 images instead of Mono8");
+  r->add_flag("--range", render->render.write_range_images,
+              "also write the true range image of every view into the truth directory");
   r->callback([render] { RunRender(*render); });
 
   auto serve = std::make_shared<ServeArgs>();

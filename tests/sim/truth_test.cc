@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/station_validator.h"
@@ -82,6 +83,7 @@ TEST(RenderStation, WritesAValidCompleteStationAndItsTruth) {
   StationRenderOptions render;
   render.render.supersampling = 1;
   render.plan.azimuths = 3;  // keep the test short; the default plan has 12
+  render.write_range_images = true;
   testing::TempDir dir;
   int calls = 0;
   ASSERT_TRUE(
@@ -98,6 +100,28 @@ TEST(RenderStation, WritesAValidCompleteStationAndItsTruth) {
   // The station gets the nominal calibration; the truth keeps the true one.
   EXPECT_EQ(m->calibration.rig.left.k1, 0.0);
   EXPECT_TRUE(std::filesystem::exists(dir / "T/calibration.yaml"));
+  // The true range image puts each pixel on the terrain, through the true calibration at the
+  // true encoder angles of truth.json.
+  std::ifstream in(dir / "T/truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(in);
+  const auto& pose = truth.at("true_poses").at(1);
+  const cv::Mat range = cv::imread(dir / "T/range/pair_01_left.tif", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(range.type(), CV_32FC1);
+  const Calibration& cal = station->rig.truth;
+  const CameraModel camera(cal.rig.left);
+  const Eigen::Isometry3d l_from_c =
+      cal.LFromCamera(Side::kLeft, pose.at("pan_deg"), pose.at("tilt_deg"));
+  int on_ground = 0;
+  for (int y = 600; y < 1040; y += 97) {
+    for (int x = 50; x < 1392; x += 211) {
+      const float r = range.at<float>(y, x);
+      if (std::isnan(r)) continue;
+      const Eigen::Vector3d p = l_from_c * (static_cast<double>(r) * camera.RayFromPixel({x, y}));
+      EXPECT_NEAR(p.z(), station->scene.TerrainHeight(p.x(), p.y()), 2e-4) << x << "," << y;
+      ++on_ground;
+    }
+  }
+  EXPECT_GT(on_ground, 20);
   // Deterministic per seed: the same images again, byte for byte.
   ASSERT_TRUE(RenderStationDirectory(*station, render, dir / "S2", dir / "T2").ok());
   const Result<StationManifest> again = LoadStationManifest(dir / "S2");

@@ -236,6 +236,28 @@ TEST_F(CaptureTest, KillNineAtRandomMomentsNeverLeavesABrokenStation) {
   EXPECT_EQ(done->pairs.size(), 6u);
 }
 
+TEST_F(CaptureTest, OverexposedStartIsRetakenWithBothCamerasOnOneExposure) {
+  Serve(15158);
+  CaptureOptions o = Short(2);
+  o.initial_exposure_us = 60000;  // far too long: the ground clips
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, o);
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_GT(s->retakes, 0);
+  EXPECT_LT(s->exposure_us, 30000);
+  const Result<StationManifest> m = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  for (const PairRecord& p : m->pairs) {
+    EXPECT_DOUBLE_EQ(p.exposure_us, s->exposure_us);
+    for (const ImageRecord* r : {&p.left, &p.right}) {
+      const Result<cv::Mat> image =
+          ReadMonoPng(dir_ / ("S/" + r->file), PixelFormat::kMono8, 1392, 1040);
+      ASSERT_TRUE(image.ok());
+      const ExposureVerdict v = JudgeExposure(*image, *image, p.exposure_us, o.exposure);
+      EXPECT_TRUE(v.ok) << r->file << ": " << v.reason << " mean " << v.mean;
+    }
+  }
+}
+
 TEST_F(CaptureTest, RefusesToOverwriteAStationAndResumeOfACompleteOneDoesNothing) {
   Serve(15156);
   const std::string rig = WriteRig();
