@@ -122,7 +122,10 @@ class Sequencer {
       const Status tr = right_.Trigger();
       Result<Frame> l = tl ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tl.error()});
       Result<Frame> r = tr ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tr.error()});
-      if (l && r) return std::pair{std::move(*l), std::move(*r)};
+      if (l && r) {
+        summary_->resent_packets += l->statistics.resent_packets + r->statistics.resent_packets;
+        return std::pair{std::move(*l), std::move(*r)};
+      }
       last_error = !l ? l.error() : r.error();
       Emit({CaptureEventKind::kFrameRetry, index, 0, last_error});
       // A camera that lost its control channel, or failed twice, is opened again.

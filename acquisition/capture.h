@@ -54,8 +54,9 @@ struct CaptureSummary {
   int total_pairs = 0;
   int captured_now = 0;
   int already_present = 0;
-  int retakes = 0;        // exposure corrections
-  int frame_retries = 0;  // re-triggers after a lost or incomplete frame
+  int retakes = 0;              // exposure corrections
+  int frame_retries = 0;        // re-triggers after a lost or incomplete frame
+  uint64_t resent_packets = 0;  // GVSP packets lost and recovered by resend, both cameras
   double seconds = 0.0;
   double exposure_us = 0.0;  // of the last pair
 };

@@ -34,6 +34,8 @@ Result<std::unique_ptr<SimServer>> SimServer::Start(std::shared_ptr<const SimSta
     camera.address = side == Side::kLeft ? options.left_address : options.right_address;
     camera.serial = side == Side::kLeft ? options.left_serial : options.right_serial;
     camera.gvsp_loss_ratio = options.faults.gvsp_loss;
+    camera.hidden_address =
+        side == Side::kLeft ? options.left_hidden_address : options.right_hidden_address;
     camera.render = options.render;
     auto& slot = side == Side::kLeft ? server->left_ : server->right_;
     slot = std::make_unique<SimulatedCamera>(station, pose, camera);

@@ -24,6 +24,9 @@ struct SimServeOptions {
   std::string right_address = "127.0.0.2";
   std::string left_serial = "TS-SIM-L";
   std::string right_serial = "TS-SIM-R";
+  // Where the fake cameras hide behind the gvsp-loss relay (only with that fault).
+  std::string left_hidden_address = "127.0.0.11";
+  std::string right_hidden_address = "127.0.0.12";
   std::string stage_address = "127.0.0.1";
   int stage_port = 15020;
   bool stage_pty = true;  // also serve Modbus RTU on a pseudo-terminal

@@ -45,15 +45,28 @@ SimulatedCamera::~SimulatedCamera() {
 Status SimulatedCamera::Start() {
   std::lock_guard lock(camera_mutex_);
   if (camera_) return {};
-  ArvGvFakeCamera* camera =
-      arv_gv_fake_camera_new(options_.address.c_str(), options_.serial.c_str());
+  const bool lossy = options_.gvsp_loss_ratio > 0.0;
+  const std::string& listen = lossy ? options_.hidden_address : options_.address;
+  ArvGvFakeCamera* camera = arv_gv_fake_camera_new(listen.c_str(), options_.serial.c_str());
   if (!camera || !arv_gv_fake_camera_is_running(camera)) {
     if (camera) g_object_unref(camera);
-    return Error{"simulated camera " + options_.serial + ": cannot serve on " + options_.address +
+    return Error{"simulated camera " + options_.serial + ": cannot serve on " + listen +
                  " (is it an address of this host's loopback?)"};
   }
-  g_object_set(camera, "gvsp-lost-ratio", options_.gvsp_loss_ratio, nullptr);
   ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(camera);
+  if (lossy) {
+    // Clients must find it, and talk to it, on the public address: the relay's.
+    GInetAddress* public_address = g_inet_address_new_from_string(options_.address.c_str());
+    arv_fake_camera_set_inet_address(fake, public_address);
+    g_object_unref(public_address);
+    auto relay = GvspLossRelay::Start(options_.address, options_.hidden_address,
+                                      options_.gvsp_loss_ratio, station_->scene.seed);
+    if (!relay) {
+      g_object_unref(camera);
+      return Error{relay.error()};
+    }
+    relay_ = std::move(*relay);
+  }
   const CameraIntrinsics& c = station_->rig.truth.rig.left;
   // The fake sensor is 2048 x 2048 by default; make it the rig's sensor.
   arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_SENSOR_WIDTH,
@@ -82,6 +95,7 @@ void SimulatedCamera::Stop() {
     camera_ = nullptr;
   }
   if (camera) g_object_unref(camera);  // joins the camera thread and closes its sockets
+  relay_.reset();
 }
 
 bool SimulatedCamera::running() const {

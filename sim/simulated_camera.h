@@ -18,6 +18,7 @@
 #include <tuple>
 
 #include "processing/common/result.h"
+#include "sim/gvsp_loss_relay.h"
 #include "sim/sim_station.h"
 
 struct _ArvGvFakeCamera;
@@ -29,6 +30,9 @@ struct SimulatedCameraOptions {
   std::string serial = "TS-SIM-L";
   Side side = Side::kLeft;
   double gvsp_loss_ratio = 0.0;  // fault gvsp-loss: fraction of GVSP packets lost
+  // With gvsp-loss the fake camera listens here and a GvspLossRelay stands on `address`
+  // (the fake camera cannot resend; the relay can). Must be an address of lo.
+  std::string hidden_address = "127.0.0.11";
   RenderOptions render;
 };
 
@@ -63,6 +67,7 @@ class SimulatedCamera {
   SimulatedCameraOptions options_;
   mutable std::mutex camera_mutex_;
   _ArvGvFakeCamera* camera_ = nullptr;
+  std::unique_ptr<GvspLossRelay> relay_;
 
   std::mutex render_mutex_;  // one render at a time per camera (one Renderer)
   Renderer renderer_;

@@ -59,6 +59,7 @@ void Run(const CaptureArgs& args) {
                                        {"already_present", s->already_present},
                                        {"retakes", s->retakes},
                                        {"frame_retries", s->frame_retries},
+                                       {"resent_packets", s->resent_packets},
                                        {"exposure_us", s->exposure_us},
                                        {"seconds", s->seconds}}
                             .dump()

@@ -128,6 +128,18 @@ TEST_F(CaptureTest, ModbusNoiseOnTheSerialLineIsRetriedAway) {
   EXPECT_TRUE(ValidateStation(dir_ / "S", {.require_complete = true}).ok());
 }
 
+TEST_F(CaptureTest, OnePercentGvspLossStillGivesEveryImageValid) {
+  sim::SimFaults faults;
+  faults.gvsp_loss = 0.01;
+  Serve(15159, faults);
+  const Result<CaptureSummary> s = Capture(WriteRig(), false, Short(6));
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_GT(s->resent_packets, 50u);  // ~1 % of ~990 packets per frame, 12 frames
+  const Result<StationManifest> m = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->pairs.size(), 6u);
+}
+
 TEST_F(CaptureTest, StageAlarmStopsWithAClearError) {
   sim::SimFaults faults;
   faults.stage_alarm = sim::AxisFault{true, 2};  // home, first pose, then the alarm
