@@ -1,0 +1,80 @@
+#include "processing/matching/rectification.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+
+namespace ts {
+
+namespace {
+
+void BuildMaps(const CameraModel& camera, const Eigen::Matrix3d& camera_from_rect,
+               const Rectification& r, cv::Mat* map_x, cv::Mat* map_y) {
+  map_x->create(r.height_px, r.width_px, CV_32FC1);
+  map_y->create(r.height_px, r.width_px, CV_32FC1);
+  for (int v = 0; v < r.height_px; ++v) {
+    float* mx = map_x->ptr<float>(v);
+    float* my = map_y->ptr<float>(v);
+    for (int u = 0; u < r.width_px; ++u) {
+      const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(),
+                                r.focal_px);
+      Eigen::Vector2d pixel;
+      if (camera.Project(camera_from_rect * ray, &pixel)) {
+        mx[u] = static_cast<float>(pixel.x());
+        my[u] = static_cast<float>(pixel.y());
+      } else {
+        mx[u] = my[u] = -1.0f;  // outside: remap's border value
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Eigen::Vector2d Rectification::LeftPixel(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d q = left_from_rect.transpose() * p;
+  return principal_point_px + focal_px * Eigen::Vector2d(q.x() / q.z(), q.y() / q.z());
+}
+
+Eigen::Vector2d Rectification::RightPixel(const Eigen::Vector3d& p_left) const {
+  // The right centre sits at +B along the rectified x axis.
+  const Eigen::Vector3d q =
+      left_from_rect.transpose() * p_left - Eigen::Vector3d(baseline_m, 0.0, 0.0);
+  return principal_point_px + focal_px * Eigen::Vector2d(q.x() / q.z(), q.y() / q.z());
+}
+
+Rectification Rectify(const StereoRig& rig) {
+  Rectification r;
+  const Eigen::Isometry3d left_from_right =
+      rig.SFromLeftCamera().inverse() * rig.SFromRightCamera();
+  const Eigen::Vector3d baseline = left_from_right.translation();  // right centre, left frame
+  const Eigen::Vector3d x = baseline.normalized();
+  const Eigen::Vector3d mean_view =
+      Eigen::Vector3d::UnitZ() + left_from_right.linear() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d z = (mean_view - mean_view.dot(x) * x).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  r.left_from_rect.col(0) = x;
+  r.left_from_rect.col(1) = y;
+  r.left_from_rect.col(2) = z;
+  r.right_from_rect = left_from_right.linear().transpose() * r.left_from_rect;
+  r.baseline_m = baseline.norm();
+  r.width_px = rig.left.width_px;
+  r.height_px = rig.left.height_px;
+  r.focal_px = std::min(rig.left.principal_distance_px, rig.right.principal_distance_px);
+  r.principal_point_px = {0.5 * (r.width_px - 1), 0.5 * (r.height_px - 1)};
+  BuildMaps(CameraModel(rig.left), r.left_from_rect, r, &r.left_map_x, &r.left_map_y);
+  BuildMaps(CameraModel(rig.right), r.right_from_rect, r, &r.right_map_x, &r.right_map_y);
+  return r;
+}
+
+void RectifyPair(const Rectification& r, const cv::Mat& left, const cv::Mat& right,
+                 cv::Mat* left_rect, cv::Mat* right_rect) {
+  cv::Mat l, rr;
+  left.convertTo(l, CV_32F);
+  right.convertTo(rr, CV_32F);
+  cv::remap(l, *left_rect, r.left_map_x, r.left_map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  cv::remap(rr, *right_rect, r.right_map_x, r.right_map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+            0);
+}
+
+}  // namespace ts
