@@ -7,31 +7,12 @@
 #include <cmath>
 
 #include "sim/sim_station.h"
+#include "tests/common/terrain_march.h"
 
 namespace ts::sim {
 namespace {
 
-// Distance along a unit ray to the terrain by marching and bisection, knowing nothing of
-// meshes or rasterisation.
-double MarchToTerrain(const Scene& s, const Eigen::Vector3d& origin, const Eigen::Vector3d& ray) {
-  double t0 = 0.0;
-  for (double t = 0.02; t < 200.0; t += 0.02) {
-    const Eigen::Vector3d p = origin + t * ray;
-    const double h = s.TerrainHeight(p.x(), p.y());
-    if (std::isnan(h)) return NAN;
-    if (p.z() <= h) {
-      double a = t0, b = t;
-      for (int i = 0; i < 60; ++i) {
-        const double m = 0.5 * (a + b);
-        const Eigen::Vector3d q = origin + m * ray;
-        (q.z() <= s.TerrainHeight(q.x(), q.y()) ? b : a) = m;
-      }
-      return 0.5 * (a + b);
-    }
-    t0 = t;
-  }
-  return NAN;
-}
+using testing::MarchToTerrain;
 
 class RendererTest : public ::testing::Test {
  protected:
