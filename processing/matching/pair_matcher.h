@@ -23,7 +23,13 @@ struct PairMatchOptions {
   double min_ncc = 0.8;
   double min_depth_m = 1.5;  // nearest ground the rig can see
   double max_depth_m = 150.0;
-  LsmOptions lsm;
+  // 21 x 21 LSM windows: on the simulated hills pair the disparity error is noise-limited and
+  // falls with the window (half 5 / 7 / 10 / 13: median 0.178 / 0.130 / 0.103 / 0.093 px).
+  LsmOptions lsm = [] {
+    LsmOptions o;
+    o.half_window_px = 10;
+    return o;
+  }();
   int max_consistency_px = 1;  // right-to-left integer disparity may differ this much
   bool Check(std::string* why) const;
 };
