@@ -14,6 +14,9 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "ncc_half_window_px must be at least 2";
   } else if (!(min_depth_m > 0.0 && max_depth_m > min_depth_m)) {
     err = "need 0 < min_depth_m < max_depth_m";
+  } else if ((min_disparity_px >= 0) != (max_disparity_px >= 0) ||
+             (max_disparity_px >= 0 && max_disparity_px <= min_disparity_px)) {
+    err = "give both min_disparity_px and max_disparity_px, with max > min";
   } else if (max_consistency_px < 0) {
     err = "max_consistency_px must not be negative";
   }
@@ -64,8 +67,11 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   const std::vector<InterestPoint> points = DetectForstner(left, o.interest);
   s.interest_points = static_cast<int>(points.size());
   const double fb = r.focal_px * r.baseline_m;
-  const int d_min = std::max(0, static_cast<int>(std::floor(fb / o.max_depth_m)));
-  const int d_max = static_cast<int>(std::ceil(fb / o.min_depth_m));
+  const bool explicit_range = o.max_disparity_px >= 0;
+  const int d_min = explicit_range ? o.min_disparity_px
+                                   : std::max(0, static_cast<int>(std::floor(fb / o.max_depth_m)));
+  const int d_max =
+      explicit_range ? o.max_disparity_px : static_cast<int>(std::ceil(fb / o.min_depth_m));
   const int h = o.ncc_half_window_px;
   std::vector<StereoMatch> matches;
   for (const InterestPoint& p : points) {

@@ -23,6 +23,10 @@ struct PairMatchOptions {
   double min_ncc = 0.8;
   double min_depth_m = 1.5;  // nearest ground the rig can see
   double max_depth_m = 150.0;
+  // An explicit disparity range instead of the depth range (both >= 0, max > min), e.g. for
+  // a stereo pair without a known geometry; -1 = derive it from the depths.
+  int min_disparity_px = -1;
+  int max_disparity_px = -1;
   // 21 x 21 LSM windows: on the simulated hills pair the disparity error is noise-limited and
   // falls with the window (half 5 / 7 / 10 / 13: median 0.178 / 0.130 / 0.103 / 0.093 px).
   LsmOptions lsm = [] {
