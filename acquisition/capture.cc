@@ -4,8 +4,8 @@
 #include <optional>
 
 #include "processing/io/atomic_file.h"
-#include "processing/io/sha256.h"
 #include "processing/io/station_manifest.h"
+#include "processing/io/station_validator.h"
 
 namespace ts {
 
@@ -81,16 +81,8 @@ Result<StationManifest> ResumeStation(const std::string& dir) {
   if (!m) return m;
   // Keep only pairs whose images are intact; the others are taken again.
   std::vector<PairRecord> intact;
-  for (const PairRecord& p : m->pairs) {
-    bool ok = true;
-    for (const ImageRecord* r : {&p.left, &p.right}) {
-      const std::string path = (fs::path(dir) / r->file).string();
-      const Result<std::string> sha = Sha256OfFile(path);
-      ok = ok && sha.ok() && *sha == r->sha256 &&
-           ReadMonoPng(path, m->pixel_format, m->image_width_px, m->image_height_px).ok();
-    }
-    if (ok) intact.push_back(p);
-  }
+  for (const PairRecord& p : m->pairs)
+    if (CheckPairImages(dir, *m, p, PairName(p.index))) intact.push_back(p);
   m->pairs = intact;
   CleanRaw(dir, *m);
   if (Status s = SaveStationManifest(&*m, dir); !s) return Error{s.error()};

@@ -25,6 +25,13 @@ Status CheckImage(const std::string& station_dir, const StationManifest& m, cons
 
 }  // namespace
 
+Status CheckPairImages(const std::string& station_dir, const StationManifest& m,
+                       const PairRecord& pair, const std::string& field,
+                       const StationValidationOptions& options) {
+  if (Status s = CheckImage(station_dir, m, pair.left, field + ".left", options); !s) return s;
+  return CheckImage(station_dir, m, pair.right, field + ".right", options);
+}
+
 Result<StationManifest> ValidateStation(const std::string& station_dir,
                                         const StationValidationOptions& options) {
   if (!std::filesystem::is_directory(station_dir))
@@ -33,11 +40,8 @@ Result<StationManifest> ValidateStation(const std::string& station_dir,
   if (!manifest) return manifest;
   const StationManifest& m = *manifest;
   for (size_t i = 0; i < m.pairs.size(); ++i) {
-    const PairRecord& pair = m.pairs[i];
     const std::string field = "pairs[" + std::to_string(i) + "]";
-    if (Status s = CheckImage(station_dir, m, pair.left, field + ".left", options); !s)
-      return Error{s.error()};
-    if (Status s = CheckImage(station_dir, m, pair.right, field + ".right", options); !s)
+    if (Status s = CheckPairImages(station_dir, m, m.pairs[i], field, options); !s)
       return Error{s.error()};
   }
   if (options.require_complete) {

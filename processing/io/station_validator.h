@@ -14,6 +14,12 @@ struct StationValidationOptions {
   bool decode_images = true;      // decode each PNG and check size and format (slower)
 };
 
+// The images of one pair, as ValidateStation checks them (present, checksum, and with
+// decode_images the size and pixel format); errors name `field` ("pairs[3]").
+Status CheckPairImages(const std::string& station_dir, const StationManifest& manifest,
+                       const PairRecord& pair, const std::string& field,
+                       const StationValidationOptions& options = {});
+
 // The manifest when everything checks out.
 Result<StationManifest> ValidateStation(const std::string& station_dir,
                                         const StationValidationOptions& options = {});
