@@ -1,6 +1,5 @@
 #include "processing/matching/rectification.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
@@ -44,20 +43,12 @@ Eigen::Vector2d Rectification::RightPixel(const Eigen::Vector3d& p_left) const {
 }
 
 Rectification Rectify(const StereoRig& rig) {
+  // The rig frame S already has X along the baseline: a rectified camera is S's nominal
+  // camera (looking along Y_S, rows along X_S), for both sides.
   Rectification r;
-  const Eigen::Isometry3d left_from_right =
-      rig.SFromLeftCamera().inverse() * rig.SFromRightCamera();
-  const Eigen::Vector3d baseline = left_from_right.translation();  // right centre, left frame
-  const Eigen::Vector3d x = baseline.normalized();
-  const Eigen::Vector3d mean_view =
-      Eigen::Vector3d::UnitZ() + left_from_right.linear() * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d z = (mean_view - mean_view.dot(x) * x).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  r.left_from_rect.col(0) = x;
-  r.left_from_rect.col(1) = y;
-  r.left_from_rect.col(2) = z;
-  r.right_from_rect = left_from_right.linear().transpose() * r.left_from_rect;
-  r.baseline_m = baseline.norm();
+  r.left_from_rect = rig.S_from_left.transpose() * StereoRig::NominalSFromCamera();
+  r.right_from_rect = rig.left_from_right.transpose() * r.left_from_rect;
+  r.baseline_m = rig.baseline_m;
   r.width_px = rig.left.width_px;
   r.height_px = rig.left.height_px;
   r.focal_px = std::min(rig.left.principal_distance_px, rig.right.principal_distance_px);

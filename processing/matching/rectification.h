@@ -2,12 +2,11 @@
 // Epipolar rectification of a stereo pair with the project's camera model (lens distortion
 // included), so that conjugate points lie on the same row and matching is a 1D search.
 //
-// Both cameras are turned to a common orientation R (rows of R: the rectified axes in the left
-// camera frame): x along the baseline from left to right, z the mean viewing direction made
-// perpendicular to it, y = z x x (down). Both share one distortion-free pinhole (focal f, principal
-// point (cx, cy)), so a point at depth Z (along rectified z) has disparity d = x_l - x_r = f B / Z.
-// The maps give, for every rectified pixel, the measured pixel of the original image
-// (CameraModel::Project with distortion), for cv::remap.
+// Both cameras are turned to the orientation of the rig frame S's nominal camera (x along the
+// baseline from left to right, z along Y_S, y down), which S defines already. Both share one
+// distortion-free pinhole (focal f, principal point (cx, cy)), so a point at depth Z (along
+// rectified z) has disparity d = x_l - x_r = f B / Z. The maps give, for every rectified pixel, the
+// measured pixel of the original image (CameraModel::Project with distortion), for cv::remap.
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
