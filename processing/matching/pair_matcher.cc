@@ -95,7 +95,7 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     const double disparity = at.x() - lsm.position_px.x();
     if (back < 0 || std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;
     ++s.consistent;
-    matches.push_back({p.position_px, lsm.position_px, disparity, lsm.sigma_x_px, lsm.correlation});
+    matches.push_back({at, lsm.position_px, disparity, lsm.sigma_x_px, lsm.correlation});
   }
   if (summary) *summary = s;
   return matches;
