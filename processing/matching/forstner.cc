@@ -85,7 +85,8 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
       for (int y = cy; y < std::min(cy + o.cell_px, f.rows - o.border_px); ++y) {
         for (int x = cx; x < std::min(cx + o.cell_px, f.cols - o.border_px); ++x) {
           const float v = w.at<float>(y, x);
-          if (v >= best && v == dilated.at<float>(y, x) && q.at<float>(y, x) >= o.min_roundness) {
+          if (v >= best && (!o.local_maxima_only || v == dilated.at<float>(y, x)) &&
+              q.at<float>(y, x) >= o.min_roundness) {
             best = v;
             best_x = x;
             best_y = y;
@@ -97,15 +98,27 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
                         q.at<float>(best_y, best_x)});
     }
   }
+  // Strongest first; a point is kept unless a kept one lies within half a cell. Kept points
+  // are binned in half-cell buckets, so only the neighbouring buckets need looking at.
   std::sort(points.begin(), points.end(),
             [](const InterestPoint& a, const InterestPoint& b) { return a.weight > b.weight; });
-  std::vector<InterestPoint> spread;
   const double min_distance = 0.5 * o.cell_px;
+  const int bucket_cols = static_cast<int>(f.cols / min_distance) + 2;
+  const int bucket_rows = static_cast<int>(f.rows / min_distance) + 2;
+  std::vector<std::vector<int>> buckets(static_cast<size_t>(bucket_cols) * bucket_rows);
+  std::vector<InterestPoint> spread;
   for (const InterestPoint& p : points) {
+    const int bx = static_cast<int>(p.position_px.x() / min_distance) + 1;
+    const int by = static_cast<int>(p.position_px.y() / min_distance) + 1;
     bool far = true;
-    for (const InterestPoint& s : spread)
-      far = far && (s.position_px - p.position_px).squaredNorm() >= min_distance * min_distance;
-    if (far) spread.push_back(p);
+    for (int y = by - 1; y <= by + 1 && far; ++y)
+      for (int x = bx - 1; x <= bx + 1 && far; ++x)
+        for (const int i : buckets[static_cast<size_t>(y) * bucket_cols + x])
+          far = far && (spread[i].position_px - p.position_px).squaredNorm() >=
+                           min_distance * min_distance;
+    if (!far) continue;
+    buckets[static_cast<size_t>(by) * bucket_cols + bx].push_back(static_cast<int>(spread.size()));
+    spread.push_back(p);
   }
   return spread;
 }

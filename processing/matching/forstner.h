@@ -5,8 +5,8 @@
 // q = 4 det N / trace^2 N (1 for a corner or blob, 0 for a straight edge).
 //
 // Points are spread over the image on a grid: at most one per cell (its strongest local
-// maximum of w) and none closer than half a cell to a stronger one, so texture everywhere is
-// sampled, not only its strongest clumps. Each
+// maximum of w, or in dense use its strongest pixel) and none closer than half a cell to a
+// stronger one, so texture everywhere is sampled, not only its strongest clumps. Each
 // point is located to sub-pixel precision by Förstner's estimate: the point nearest, in the
 // least-squares sense, to all the gradient lines of its window.
 #include <Eigen/Core>
@@ -23,7 +23,10 @@ struct ForstnerOptions {
   double min_roundness = 0.5;      // q threshold: rejects edges
   double min_weight_factor = 1.0;  // w threshold, times the image's median w
   int cell_px = 8;                 // grid cell: at most one point per cell (density)
-  int border_px = 8;               // no points this close to the image border
+  // true: a cell's point must be a local maximum of w (the classic operator: corners only);
+  // false: every cell with enough texture gives its strongest pixel (dense matching).
+  bool local_maxima_only = true;
+  int border_px = 8;  // no points this close to the image border
   bool Check(std::string* why) const;
 };
 

@@ -22,17 +22,17 @@ bool LsmOptions::Check(std::string* why) const {
   return false;
 }
 
-SearchGradients ComputeSearchGradients(const cv::Mat& search) {
-  SearchGradients g;
-  g.dx = cv::Mat::zeros(search.size(), CV_32FC1);
-  g.dy = cv::Mat::zeros(search.size(), CV_32FC1);
-  for (int y = 1; y + 1 < search.rows; ++y) {
-    const float* up = search.ptr<float>(y - 1);
-    const float* row = search.ptr<float>(y);
-    const float* down = search.ptr<float>(y + 1);
+ImageGradients ComputeGradients(const cv::Mat& image) {
+  ImageGradients g;
+  g.dx = cv::Mat::zeros(image.size(), CV_32FC1);
+  g.dy = cv::Mat::zeros(image.size(), CV_32FC1);
+  for (int y = 1; y + 1 < image.rows; ++y) {
+    const float* up = image.ptr<float>(y - 1);
+    const float* row = image.ptr<float>(y);
+    const float* down = image.ptr<float>(y + 1);
     float* dx = g.dx.ptr<float>(y);
     float* dy = g.dy.ptr<float>(y);
-    for (int x = 1; x + 1 < search.cols; ++x) {
+    for (int x = 1; x + 1 < image.cols; ++x) {
       dx[x] = 0.5f * (row[x + 1] - row[x - 1]);
       dy[x] = 0.5f * (down[x] - up[x]);
     }
@@ -42,117 +42,156 @@ SearchGradients ComputeSearchGradients(const cv::Mat& search) {
 
 namespace {
 
-// Bilinear sample; false outside the interior (one pixel margin for the gradients).
-inline bool Sample(const cv::Mat& image, double x, double y, double* value) {
-  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  if (x0 < 1 || y0 < 1 || x0 + 2 >= image.cols || y0 + 2 >= image.rows) return false;
-  const double tx = x - x0, ty = y - y0;
-  const float* r0 = image.ptr<float>(y0);
-  const float* r1 = image.ptr<float>(y0 + 1);
-  *value =
-      (1 - ty) * ((1 - tx) * r0[x0] + tx * r0[x0 + 1]) + ty * ((1 - tx) * r1[x0] + tx * r1[x0 + 1]);
-  return true;
-}
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  double ma = 0, mb = 0;
-  for (size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
-  ma /= a.size();
-  mb /= b.size();
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
+// Resamples the search window under the affine warp (search = A [x y 1]^T); false if any
+// sample falls outside the image.
+bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, float* out) {
+  // Corners first: the affine image of the window is inside if its corners are.
+  for (const int cy : {-h, h})
+    for (const int cx : {-h, h}) {
+      const double xs = a(0, 0) * cx + a(0, 1) * cy + a(0, 2);
+      const double ys = a(1, 0) * cx + a(1, 1) * cy + a(1, 2);
+      if (!(xs >= 0.0 && ys >= 0.0 && xs < search.cols - 1 && ys < search.rows - 1)) return false;
+    }
+  const size_t step = search.step1();
+  const float* data = search.ptr<float>();
+  const float dxx = static_cast<float>(a(0, 0)), dyx = static_cast<float>(a(1, 0));
+  int k = 0;
+  for (int y = -h; y <= h; ++y) {
+    float xs = static_cast<float>(a(0, 0) * -h + a(0, 1) * y + a(0, 2));
+    float ys = static_cast<float>(a(1, 0) * -h + a(1, 1) * y + a(1, 2));
+    for (int x = -h; x <= h; ++x, ++k, xs += dxx, ys += dyx) {
+      const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);  // both >= 0
+      const float tx = xs - x0, ty = ys - y0;
+      const float* r0 = data + y0 * step + x0;
+      const float* r1 = r0 + step;
+      out[k] = r0[0] + tx * (r0[1] - r0[0]) +
+               ty * (r1[0] - r0[0] + tx * (r1[1] - r1[0] - r0[1] + r0[0]));
+    }
   }
-  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+  return true;
 }
 
 }  // namespace
 
-LsmResult MatchLsm(const cv::Mat& templ, const Eigen::Vector2d& centre, const cv::Mat& search,
-                   const SearchGradients& gradients, const Eigen::Vector2d& start,
-                   const LsmOptions& o) {
+LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Point& centre,
+                   const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o) {
   LsmResult result;
   if (!o.Check(&result.why)) return result;
-  const int h = o.half_window_px;
-  // The template window, sampled at integer offsets from its (possibly sub-pixel) centre.
-  std::vector<double> f;
-  f.reserve((2 * h + 1) * (2 * h + 1));
-  for (int y = -h; y <= h; ++y)
-    for (int x = -h; x <= h; ++x) {
-      double v;
-      if (!Sample(templ, centre.x() + x, centre.y() + y, &v)) {
-        result.why = "template window leaves the image";
-        return result;
-      }
-      f.push_back(v);
+  const int h = o.half_window_px, side = 2 * h + 1, n = side * side;
+  if (centre.x - h < 1 || centre.y - h < 1 || centre.x + h + 1 >= templ.cols ||
+      centre.y + h + 1 >= templ.rows) {
+    result.why = "template window leaves the image";
+    return result;
+  }
+  // Per-thread scratch: the centred template, the six steepest-descent images
+  // d f / d(a0 a1 a2 b0 b1 b2) at the identity warp, and the resampled search window.
+  thread_local std::vector<float> buffer;
+  buffer.resize(8 * static_cast<size_t>(n));
+  float* f = buffer.data();
+  float* g = f + n;
+  float* sd[6];
+  for (int j = 0; j < 6; ++j) sd[j] = g + (j + 1) * n;
+  double mean_f = 0.0;
+  for (int y = -h, k = 0; y <= h; ++y) {
+    const float* fr = templ.ptr<float>(centre.y + y) + centre.x;
+    const float* gx = tg.dx.ptr<float>(centre.y + y) + centre.x;
+    const float* gy = tg.dy.ptr<float>(centre.y + y) + centre.x;
+    for (int x = -h; x <= h; ++x, ++k) {
+      f[k] = fr[x];
+      mean_f += fr[x];
+      sd[0][k] = gx[x], sd[1][k] = gx[x] * x, sd[2][k] = gx[x] * y;
+      sd[3][k] = gy[x], sd[4][k] = gy[x] * x, sd[5][k] = gy[x] * y;
     }
-  Eigen::Matrix<double, 8, 1> p;
-  p << start.x(), 1, 0, start.y(), 0, 1, 0, 1;
-  const int n = static_cast<int>(f.size());
-  std::vector<double> g(n);
-  Eigen::Matrix<double, 8, 8> normal;
-  double sum_v2 = 0.0;
+  }
+  mean_f /= n;
+  for (int k = 0; k < n; ++k) f[k] = static_cast<float>(f[k] - mean_f);
+  const double var_f = Eigen::Map<Eigen::VectorXf>(f, n).squaredNorm();  // n x variance
+  if (!(var_f > 1e-6 * n)) {
+    result.why = "no texture: template is flat";
+    return result;
+  }
+  // Project the radiometric directions (a constant and the template itself) out of the
+  // geometric Jacobian: the geometry is then estimated independently of brightness and
+  // contrast, and since every column is orthogonal to both, its product with the residual
+  // r0 + r1 g - f reduces to r1 times its product with g.
+  // (Eigen maps: vectorised sums with independent accumulators.)
+  using MapVector = Eigen::Map<Eigen::VectorXf>;
+  const MapVector fv(f, n), gv(g, n);
+  Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, 6>> jacobian(sd[0], n, 6);
+  for (int j = 0; j < 6; ++j) {
+    auto column = jacobian.col(j);
+    const float mean = column.mean(), along = static_cast<float>(column.dot(fv) / var_f);
+    column.array() -= mean + along * fv.array();
+  }
+  const Matrix6d normal = (jacobian.transpose() * jacobian).cast<double>();
+  const Eigen::LDLT<Matrix6d> ldlt(normal);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+      !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff())) {
+    result.why = "no texture: normal equations singular";
+    return result;
+  }
+
+  Eigen::Matrix3d warp = Eigen::Matrix3d::Identity();  // search = warp * [x y 1]
+  warp(0, 2) = start.x();
+  warp(1, 2) = start.y();
   for (result.iterations = 1; result.iterations <= o.max_iterations; ++result.iterations) {
-    normal.setZero();
-    Eigen::Matrix<double, 8, 1> rhs = Eigen::Matrix<double, 8, 1>::Zero();
-    sum_v2 = 0.0;
-    int k = 0;
-    for (int y = -h; y <= h; ++y) {
-      for (int x = -h; x <= h; ++x, ++k) {
-        const double xs = p[0] + p[1] * x + p[2] * y, ys = p[3] + p[4] * x + p[5] * y;
-        double gv, gx, gy;
-        if (!Sample(search, xs, ys, &gv) || !Sample(gradients.dx, xs, ys, &gx) ||
-            !Sample(gradients.dy, xs, ys, &gy)) {
-          result.why = "search window leaves the image";
-          return result;
-        }
-        g[k] = gv;
-        const double v = f[k] - (p[6] + p[7] * gv);
-        Eigen::Matrix<double, 8, 1> a;
-        a << p[7] * gx, p[7] * gx * x, p[7] * gx * y, p[7] * gy, p[7] * gy * x, p[7] * gy * y, 1.0,
-            gv;
-        normal.selfadjointView<Eigen::Lower>().rankUpdate(a);
-        rhs += a * v;
-        sum_v2 += v * v;
-      }
+    if (!Warp(search, warp.topRows<2>(), h, g)) {
+      result.why = "search window leaves the image";
+      return result;
     }
-    normal = normal.selfadjointView<Eigen::Lower>();
-    const Eigen::LDLT<Eigen::Matrix<double, 8, 8>> ldlt(normal);
-    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
-        std::abs(normal.determinant()) < 1e-300) {
+    const double sg = gv.sum(), sgg = gv.squaredNorm(), sfg = fv.dot(gv);
+    const Eigen::Matrix<float, 6, 1> dots = jacobian.transpose() * gv;
+    const double var_g = sgg - sg * sg / n;  // n times the variance
+    if (!(var_g > 1e-6 * n)) {
+      result.why = "no texture: search window is flat";
+      return result;
+    }
+    // Radiometry in closed form, f ~ r0 + r1 g; the residual's product with the Jacobian.
+    const double r1 = sfg / var_g, r0 = mean_f - r1 * sg / n;
+    Vector6d rhs;
+    for (int j = 0; j < 6; ++j) rhs[j] = r1 * dots[j];
+    const Vector6d dp = ldlt.solve(rhs);
+    if (!dp.allFinite()) {
       result.why = "no texture: normal equations singular";
       return result;
     }
-    const Eigen::Matrix<double, 8, 1> step = ldlt.solve(rhs);
-    if (!step.allFinite()) {
-      result.why = "no texture: normal equations singular";
-      return result;
-    }
-    p += step;
-    if ((Eigen::Vector2d(p[0], p[3]) - start).norm() > o.max_shift_px) {
+    Eigen::Matrix3d inc;
+    inc << 1 + dp[1], dp[2], dp[0], dp[4], 1 + dp[5], dp[3], 0, 0, 1;
+    const Eigen::Vector2d before = warp.block<2, 1>(0, 2);
+    warp = warp * inc.inverse();
+    const Eigen::Vector2d position = warp.block<2, 1>(0, 2);
+    if ((position - start).norm() > o.max_shift_px) {
       result.why = "moved more than max_shift_px from the start";
       return result;
     }
-    if (std::hypot(step[0], step[3]) < o.convergence_px) {
-      const double sigma0_sq = sum_v2 / (n - 8);
-      const Eigen::Matrix<double, 8, 8> covariance = sigma0_sq * normal.inverse();
-      result.parameters = p;
-      result.position_px = {p[0], p[3]};
-      result.sigma0 = std::sqrt(sigma0_sq);
-      result.sigma_x_px = std::sqrt(covariance(0, 0));
-      result.sigma_y_px = std::sqrt(covariance(3, 3));
-      result.correlation = Correlation(f, g);
-      if (result.correlation < o.min_correlation) {
-        result.why = "correlation below min_correlation";
-      } else if (std::max(result.sigma_x_px, result.sigma_y_px) > o.max_sigma_px) {
-        result.why = "sigma above max_sigma_px";
-      } else {
-        result.ok = true;
-      }
-      return result;
+    if ((position - before).norm() >= o.convergence_px) continue;
+    // Converged. Residual sum of squares of the fitted windows, from the sums; the increment
+    // was in template coordinates, the position moves by the warp's linear part times it.
+    const double sum_v2 = std::max(0.0, var_f - r1 * sfg);
+    const double sigma0_sq = sum_v2 / (n - 8);
+    const Matrix6d inverse = ldlt.solve(Matrix6d::Identity());
+    Eigen::Matrix2d template_cov;
+    template_cov << inverse(0, 0), inverse(0, 3), inverse(3, 0), inverse(3, 3);
+    const Eigen::Matrix2d linear = warp.topLeftCorner<2, 2>();
+    const Eigen::Matrix2d cov = sigma0_sq * linear * template_cov * linear.transpose();
+    result.position_px = position;
+    result.parameters << warp(0, 2), warp(0, 0), warp(0, 1), warp(1, 2), warp(1, 0), warp(1, 1), r0,
+        r1;
+    result.sigma0 = std::sqrt(sigma0_sq);
+    result.sigma_x_px = std::sqrt(cov(0, 0));
+    result.sigma_y_px = std::sqrt(cov(1, 1));
+    result.correlation = sfg / std::sqrt(var_g * var_f);
+    if (result.correlation < o.min_correlation) {
+      result.why = "correlation below min_correlation";
+    } else if (std::max(result.sigma_x_px, result.sigma_y_px) > o.max_sigma_px) {
+      result.why = "sigma above max_sigma_px";
+    } else {
+      result.ok = true;
     }
+    return result;
   }
   result.why = "did not converge";
   return result;

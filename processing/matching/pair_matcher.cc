@@ -1,17 +1,22 @@
 #include "processing/matching/pair_matcher.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 
 namespace ts {
 
 bool PairMatchOptions::Check(std::string* why) const {
   std::string err;
-  if (!enhance.Check(&err) || !interest.Check(&err) || !lsm.Check(&err)) {
-  } else if (ncc_half_window_px < 2) {
-    err = "ncc_half_window_px must be at least 2";
+  if (!enhance.Check(&err) || !interest.Check(&err) || !lsm.Check(&err) || !pyramid.Check(&err)) {
+  } else if (dense_step_px < 0) {
+    err = "dense_step_px must not be negative";
+  } else if (dense_finest_level < 0) {
+    err = "dense_finest_level must not be negative";
+  } else if (ncc_half_window_px < 1) {
+    err = "ncc_half_window_px must be at least 1";
   } else if (!(min_depth_m > 0.0 && max_depth_m > min_depth_m)) {
     err = "need 0 < min_depth_m < max_depth_m";
   } else if ((min_disparity_px >= 0) != (max_disparity_px >= 0) ||
@@ -19,6 +24,8 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "give both min_disparity_px and max_disparity_px, with max > min";
   } else if (max_consistency_px < 0) {
     err = "max_consistency_px must not be negative";
+  } else if (!(sigma_scale > 0.0)) {
+    err = "sigma_scale must be positive";
   }
   if (err.empty()) return true;
   if (why) *why = err;
@@ -27,24 +34,37 @@ bool PairMatchOptions::Check(std::string* why) const {
 
 namespace {
 
-// Best integer disparity of a window centred at (u, v) of `from` along row v of `to`, with
-// the candidate position to = u - sign * d for d in [d_min, d_max]; -1 if none is found.
-int SearchRow(const cv::Mat& from, const cv::Mat& to, int u, int v, int h, int d_min, int d_max,
-              int sign, double min_ncc, double* score) {
-  const int lo = sign > 0 ? u - d_max : u + d_min;
-  const int hi = sign > 0 ? u - d_min : u + d_max;
-  const int x0 = std::max(h, lo), x1 = std::min(to.cols - h - 1, hi);
-  if (x1 < x0 || v < h || v + h >= from.rows || u < h || u + h >= from.cols) return -1;
-  const cv::Mat templ = from(cv::Rect(u - h, v - h, 2 * h + 1, 2 * h + 1));
-  const cv::Mat strip = to(cv::Rect(x0 - h, v - h, x1 - x0 + 2 * h + 1, 2 * h + 1));
-  cv::Mat ncc;
-  cv::matchTemplate(strip, templ, ncc, cv::TM_CCOEFF_NORMED);
-  double best;
-  cv::Point at;
-  cv::minMaxLoc(ncc, nullptr, &best, nullptr, &at);
-  if (!(best >= min_ncc)) return -1;
-  *score = best;
-  return sign > 0 ? u - (x0 + at.x) : (x0 + at.x) - u;
+double SecondsSince(std::chrono::steady_clock::time_point* start) {
+  const auto now = std::chrono::steady_clock::now();
+  const double s = std::chrono::duration<double>(now - *start).count();
+  *start = now;
+  return s;
+}
+
+// The points to match: Förstner's, or a regular grid in dense mode.
+std::vector<cv::Point> Points(const cv::Mat& enhanced_left, const PairMatchOptions& o) {
+  std::vector<cv::Point> points;
+  if (o.dense_step_px > 0) {
+    for (int v = 0; v < enhanced_left.rows; v += o.dense_step_px)
+      for (int u = 0; u < enhanced_left.cols; u += o.dense_step_px) points.emplace_back(u, v);
+    return points;
+  }
+  for (const InterestPoint& p : DetectForstner(enhanced_left, o.interest))
+    points.emplace_back(static_cast<int>(std::lround(p.position_px.x())),
+                        static_cast<int>(std::lround(p.position_px.y())));
+  return points;
+}
+
+// Full-resolution integer disparity at (u, v) around the map's approximation.
+int RefineFromMap(const DisparityMap& map, const cv::Mat& from, const cv::Mat& to, int u, int v,
+                  int d_min, int d_max, int h, int sign, double* score) {
+  const int mu = u >> map.level, mv = v >> map.level;
+  if (mu >= map.disparity.cols || mv >= map.disparity.rows) return -1;
+  const int coarse = map.disparity.at<int16_t>(mv, mu);
+  if (coarse < 0) return -1;
+  const int approx = coarse << map.level, radius = (1 << map.level) + 1;
+  return BestDisparityAt(from, to, u, v, std::max(d_min, approx - radius),
+                         std::min(d_max, approx + radius), h, sign, score);
 }
 
 }  // namespace
@@ -55,6 +75,7 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("pair matching: " + why);
   PairMatchSummary s;
+  auto clock = std::chrono::steady_clock::now();
   // Wallis for finding points and searching; not for least-squares matching: its local gain
   // varies across a window differently in the two views where perspective differs (near
   // ground), a ramp LSM's linear radiometry cannot absorb (measured: -0.33 px bias below 8 m).
@@ -63,40 +84,55 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   smooth_only.wallis = false;
   const cv::Mat lsm_left = Enhance(left_rect, smooth_only);
   const cv::Mat lsm_right = Enhance(right_rect, smooth_only);
-  const SearchGradients gradients = ComputeSearchGradients(lsm_right);
-  const std::vector<InterestPoint> points = DetectForstner(left, o.interest);
-  s.interest_points = static_cast<int>(points.size());
+  const ImageGradients gradients = ComputeGradients(lsm_left);
+  s.enhance_s = SecondsSince(&clock);
+
   const double fb = r.focal_px * r.baseline_m;
   const bool explicit_range = o.max_disparity_px >= 0;
   const int d_min = explicit_range ? o.min_disparity_px
                                    : std::max(0, static_cast<int>(std::floor(fb / o.max_depth_m)));
   const int d_max =
       explicit_range ? o.max_disparity_px : static_cast<int>(std::ceil(fb / o.min_depth_m));
+  // Approximations for both images: the right one as the mirror image of the problem.
+  const DisparityMap left_map =
+      MatchPyramid(left, right, d_min, d_max, o.dense_finest_level, o.pyramid);
+  cv::Mat left_flipped, right_flipped;
+  cv::flip(left, left_flipped, 1);
+  cv::flip(right, right_flipped, 1);
+  DisparityMap right_map =
+      MatchPyramid(right_flipped, left_flipped, d_min, d_max, o.dense_finest_level, o.pyramid);
+  cv::flip(right_map.disparity, right_map.disparity, 1);
+  // Flipping a map of odd width shifts its pixels by one level-pixel against the image;
+  // the full-resolution search's radius absorbs it.
+
+  s.pyramid_s = SecondsSince(&clock);
+  const std::vector<cv::Point> points = Points(left, o);
+  s.points = static_cast<int>(points.size());
+  s.points_s = SecondsSince(&clock);
   const int h = o.ncc_half_window_px;
   std::vector<StereoMatch> matches;
-  for (const InterestPoint& p : points) {
-    const int u = static_cast<int>(std::lround(p.position_px.x()));
-    const int v = static_cast<int>(std::lround(p.position_px.y()));
+  matches.reserve(points.size() / 2);
+  for (const cv::Point& p : points) {
     double ncc = 0.0;
-    const int d = SearchRow(left, right, u, v, h, d_min, d_max, +1, o.min_ncc, &ncc);
-    if (d < 0) continue;
+    const int d = RefineFromMap(left_map, left, right, p.x, p.y, d_min, d_max, h, +1, &ncc);
+    if (d < 0 || ncc < o.min_ncc) continue;
     ++s.ncc_accepted;
-    // The template sits on whole pixels: resampling it would smooth it unlike the search
-    // window and bias the fit.
-    const Eigen::Vector2d at(u, v);
     const LsmResult lsm =
-        MatchLsm(lsm_left, at, lsm_right, gradients, at - Eigen::Vector2d(d, 0.0), o.lsm);
+        MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y), o.lsm);
     if (!lsm.ok) continue;
     ++s.lsm_accepted;
-    // Two-way: from the matched right position back along the row must come home.
-    double back_ncc = 0.0;
+    // Two-way: the right image's own search, from the matched position, must come home.
+    const double disparity = p.x - lsm.position_px.x();
     const int ur = static_cast<int>(std::lround(lsm.position_px.x()));
-    const int back = SearchRow(right, left, ur, v, h, d_min, d_max, -1, o.min_ncc, &back_ncc);
-    const double disparity = at.x() - lsm.position_px.x();
-    if (back < 0 || std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;
+    double back_ncc = 0.0;
+    const int back = RefineFromMap(right_map, right, left, ur, p.y, d_min, d_max, h, -1, &back_ncc);
+    if (back < 0 || back_ncc < o.min_ncc || std::abs(back - disparity) > o.max_consistency_px + 0.5)
+      continue;
     ++s.consistent;
-    matches.push_back({at, lsm.position_px, disparity, lsm.sigma_x_px, lsm.correlation});
+    matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,
+                       o.sigma_scale * lsm.sigma_x_px, lsm.correlation});
   }
+  s.matching_s = SecondsSince(&clock);
   if (summary) *summary = s;
   return matches;
 }

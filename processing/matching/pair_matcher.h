@@ -1,9 +1,11 @@
 #pragma once
-// Dense matching of one rectified stereo pair (seed 003 sec. 4; seed 002's two-way matching):
-//   enhance (Gaussian + Wallis) -> Förstner points on the left -> NCC along the same row of
-//   the right, over the disparities of a depth range -> least-squares matching (on the
-//   Gaussian-only images: see pair_matcher.cc) for the sub-pixel disparity and its sigma ->
-//   right-to-left NCC must find the way back (consistency).
+// Matching of one rectified stereo pair (seed 003 sec. 4; seed 002's two-way matching):
+//   enhance (Gaussian + Wallis) -> points on the left: Förstner (a grid of local maxima) or,
+//   in dense mode, every dense_step_px-th pixel -> approximate disparities from NCC on a
+//   pyramid, for the left and for the right image, within a depth range -> at full
+//   resolution NCC around the approximation -> least-squares matching (on the Gaussian-only
+//   images: see pair_matcher.cc) for the sub-pixel disparity and its sigma -> the right
+//   image's own search must lead back (two-way consistency).
 // Coordinates are rectified pixels (rectification.h); depth = f B / disparity.
 #include <Eigen/Core>
 #include <string>
@@ -12,34 +14,54 @@
 #include "processing/matching/enhance.h"
 #include "processing/matching/forstner.h"
 #include "processing/matching/lsm.h"
+#include "processing/matching/pyramid_ncc.h"
 #include "processing/matching/rectification.h"
 
 namespace ts {
 
 struct PairMatchOptions {
   EnhanceOptions enhance;
-  ForstnerOptions interest;
-  int ncc_half_window_px = 5;
-  double min_ncc = 0.8;
+  // Dense Förstner: the strongest pixel of every 4 x 4 cell that has texture at all;
+  // least-squares matching decides which are good enough.
+  ForstnerOptions interest = [] {
+    ForstnerOptions o;
+    o.cell_px = 4;
+    o.local_maxima_only = false;
+    o.min_roundness = 0.0;
+    o.min_weight_factor = 0.01;
+    return o;
+  }();
+  int dense_step_px = 0;  // 0: Förstner points; n > 0: every n-th pixel of every n-th row
+  PyramidNccOptions pyramid;
+  int dense_finest_level = 1;  // pyramid maps down to this level; below it NCC per point
+  int ncc_half_window_px = 3;  // full-resolution NCC around the approximation
+  double min_ncc = 0.7;
   double min_depth_m = 1.5;  // nearest ground the rig can see
   double max_depth_m = 150.0;
   // An explicit disparity range instead of the depth range (both >= 0, max > min), e.g. for
   // a stereo pair without a known geometry; -1 = derive it from the depths.
   int min_disparity_px = -1;
   int max_disparity_px = -1;
-  // 21 x 21 LSM windows: on the simulated hills pair the disparity error is noise-limited and
-  // falls with the window (half 5 / 7 / 10 / 13: median 0.178 / 0.130 / 0.103 / 0.093 px).
+  // 21 x 21 windows, sigma <= 0.1 px. The error is noise-limited: on the simulated hills
+  // pair (median |error|, px) half window 7: 0.11, 10: 0.075, 13: 0.060, at 1 / 1.3 / 1.7
+  // times the time.
   LsmOptions lsm = [] {
     LsmOptions o;
     o.half_window_px = 10;
+    o.max_sigma_px = 0.1;
+    o.convergence_px = 0.01;
     return o;
   }();
-  int max_consistency_px = 1;  // right-to-left integer disparity may differ this much
+  int max_consistency_px = 1;  // the right image's integer disparity may differ this much
+  // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
+  // resampling correlate neighbouring pixels, so the reported sigma is this times it
+  // (measured on the simulator's true ranges: see bench_matching).
+  double sigma_scale = 3.0;
   bool Check(std::string* why) const;
 };
 
 struct StereoMatch {
-  Eigen::Vector2d left_px{0, 0};   // rectified left
+  Eigen::Vector2d left_px{0, 0};   // rectified left (the template centre)
   Eigen::Vector2d right_px{0, 0};  // rectified right (LSM)
   double disparity_px = 0.0;
   double sigma_disparity_px = 0.0;
@@ -47,10 +69,12 @@ struct StereoMatch {
 };
 
 struct PairMatchSummary {
-  int interest_points = 0;
+  int points = 0;
   int ncc_accepted = 0;
   int lsm_accepted = 0;
   int consistent = 0;
+  // wall time of the steps (s)
+  double enhance_s = 0.0, pyramid_s = 0.0, points_s = 0.0, matching_s = 0.0;
 };
 
 std::vector<StereoMatch> MatchRectifiedPair(const Rectification& rectification,

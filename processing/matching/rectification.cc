@@ -1,6 +1,7 @@
 #include "processing/matching/rectification.h"
 
 #include <algorithm>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace ts {
@@ -11,21 +12,23 @@ void BuildMaps(const CameraModel& camera, const Eigen::Matrix3d& camera_from_rec
                const Rectification& r, cv::Mat* map_x, cv::Mat* map_y) {
   map_x->create(r.height_px, r.width_px, CV_32FC1);
   map_y->create(r.height_px, r.width_px, CV_32FC1);
-  for (int v = 0; v < r.height_px; ++v) {
-    float* mx = map_x->ptr<float>(v);
-    float* my = map_y->ptr<float>(v);
-    for (int u = 0; u < r.width_px; ++u) {
-      const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(),
-                                r.focal_px);
-      Eigen::Vector2d pixel;
-      if (camera.Project(camera_from_rect * ray, &pixel)) {
-        mx[u] = static_cast<float>(pixel.x());
-        my[u] = static_cast<float>(pixel.y());
-      } else {
-        mx[u] = my[u] = -1.0f;  // outside: remap's border value
+  cv::parallel_for_(cv::Range(0, r.height_px), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      float* mx = map_x->ptr<float>(v);
+      float* my = map_y->ptr<float>(v);
+      for (int u = 0; u < r.width_px; ++u) {
+        const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(),
+                                  r.focal_px);
+        Eigen::Vector2d pixel;
+        if (camera.Project(camera_from_rect * ray, &pixel)) {
+          mx[u] = static_cast<float>(pixel.x());
+          my[u] = static_cast<float>(pixel.y());
+        } else {
+          mx[u] = my[u] = -1.0f;  // outside: remap's border value
+        }
       }
     }
-  }
+  });
 }
 
 }  // namespace

@@ -60,6 +60,37 @@ TEST(Forstner, PointsAreSpreadOnTheGridNotClumped) {
   EXPECT_GT(DetectForstner(image, o).size(), 3 * points.size() / 2);
 }
 
+// Dense use: every textured cell gives its strongest pixel, still never two within half a
+// cell; flat parts of the image give none.
+TEST(Forstner, DenseModeGivesAPointInEveryTexturedCell) {
+  cv::Mat image = Texture(240, 160, 4);
+  image.colRange(120, 240).setTo(100);  // right half flat
+  ForstnerOptions o;
+  o.cell_px = 4;
+  o.local_maxima_only = false;
+  o.min_roundness = 0.0;
+  o.min_weight_factor = 0.01;
+  const auto points = DetectForstner(image, o);
+  const int textured_cells = ((120 - 8) / 4) * ((160 - 16) / 4);
+  int left = 0;
+  for (const InterestPoint& p : points) {
+    EXPECT_LT(p.position_px.x(), 120 + o.half_window_px + o.locate_half_window_px) << "flat half";
+    left += p.position_px.x() < 120 - 4;
+  }
+  // Picks in neighbouring cells closer than half a cell keep only the stronger one.
+  EXPECT_GT(left, 0.5 * textured_cells);
+  // On smooth texture (as far ground looks) local maxima of w are sparse: the classic
+  // operator finds far fewer points than one per cell.
+  cv::Mat smooth;
+  cv::GaussianBlur(image, smooth, {0, 0}, 3.0);
+  const size_t dense = DetectForstner(smooth, o).size();
+  o.local_maxima_only = true;
+  EXPECT_GT(dense, 2 * DetectForstner(smooth, o).size());
+  for (size_t i = 0; i < points.size(); ++i)
+    for (size_t j = i + 1; j < points.size(); ++j)
+      EXPECT_GE((points[i].position_px - points[j].position_px).norm(), 2.0);
+}
+
 TEST(Forstner, NoPointsOnFlatGroundOrStraightEdges) {
   EXPECT_TRUE(DetectForstner(cv::Mat(100, 100, CV_8UC1, cv::Scalar(90)), {}).empty());
   cv::Mat edge(100, 100, CV_32FC1, cv::Scalar(50));

@@ -60,7 +60,6 @@ class Lsm : public ::testing::Test {
  protected:
   Texture texture_{3};
   cv::Mat search_ = Sampled(texture_, 100);
-  SearchGradients gradients_ = ComputeSearchGradients(search_);
 };
 
 // Bilinear resampling of the search window biases the match by up to ~0.015 px near half-pixel
@@ -70,7 +69,7 @@ TEST_F(Lsm, RecoversASubPixelShift) {
        {std::pair{0.37, -0.21}, std::pair{-0.45, 0.48}, std::pair{0.0, 0.0}}) {
     const auto truth = Params(50 + dx, 1, 0, 47 + dy, 0, 1, 0, 1);
     const cv::Mat templ = Template(texture_, truth, 31, 15, 15);
-    const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {51, 46});
+    const LsmResult r = MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {51, 46});
     ASSERT_TRUE(r.ok) << r.why;
     EXPECT_NEAR(r.position_px.x(), 50 + dx, 0.02);
     EXPECT_NEAR(r.position_px.y(), 47 + dy, 0.02);
@@ -83,7 +82,7 @@ TEST_F(Lsm, RecoversAffineAndRadiometricParameters) {
   const cv::Mat templ = Template(texture_, truth, 31, 15, 15);
   LsmOptions o;
   o.half_window_px = 10;
-  const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {53.5, 44.0}, o);
+  const LsmResult r = MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {53.5, 44.0}, o);
   ASSERT_TRUE(r.ok) << r.why;
   EXPECT_NEAR(r.position_px.x(), 52.3, 0.02);
   EXPECT_NEAR(r.position_px.y(), 44.7, 0.02);
@@ -103,7 +102,7 @@ TEST_F(Lsm, SigmaDescribesTheScatterUnderNoise) {
   for (int i = 0; i < trials; ++i) {
     cv::Mat templ = clean.clone();
     for (auto it = templ.begin<float>(); it != templ.end<float>(); ++it) *it += noise(rng);
-    const LsmResult r = MatchLsm(templ, {15, 15}, search_, gradients_, {49, 51});
+    const LsmResult r = MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {49, 51});
     ASSERT_TRUE(r.ok) << r.why;
     sum_err2 += std::pow(r.position_px.x() - 48.6, 2);
     sum_sigma2 += r.sigma_x_px * r.sigma_x_px;
@@ -115,29 +114,28 @@ TEST_F(Lsm, SigmaDescribesTheScatterUnderNoise) {
 
 TEST_F(Lsm, RejectsWhatCannotBeMatched) {
   const cv::Mat flat(60, 60, CV_32FC1, cv::Scalar(100));
-  const SearchGradients flat_gradients = ComputeSearchGradients(flat);
-  const LsmResult none = MatchLsm(flat, {30, 30}, flat, flat_gradients, {30, 30});
+  const LsmResult none = MatchLsm(flat, ComputeGradients(flat), {30, 30}, flat, {30, 30});
   EXPECT_FALSE(none.ok);
   EXPECT_NE(none.why.find("no texture"), std::string::npos) << none.why;
 
   const cv::Mat templ = Template(texture_, Params(50, 1, 0, 50, 0, 1, 0, 1), 31, 15, 15);
-  const LsmResult edge = MatchLsm(templ, {3, 15}, search_, gradients_, {50, 50});
+  const LsmResult edge = MatchLsm(templ, ComputeGradients(templ), {3, 15}, search_, {50, 50});
   EXPECT_FALSE(edge.ok);
   EXPECT_NE(edge.why.find("template window leaves the image"), std::string::npos);
-  const LsmResult outside = MatchLsm(templ, {15, 15}, search_, gradients_, {2, 50});
+  const LsmResult outside = MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {2, 50});
   EXPECT_FALSE(outside.ok);
   EXPECT_NE(outside.why.find("search window leaves the image"), std::string::npos);
 
   // A different texture altogether: whatever it converges to, it is not accepted.
   const Texture other(99);
   const cv::Mat unrelated = Template(other, Params(50, 1, 0, 50, 0, 1, 0, 1), 31, 15, 15);
-  EXPECT_FALSE(MatchLsm(unrelated, {15, 15}, search_, gradients_, {50, 50}).ok);
+  EXPECT_FALSE(MatchLsm(unrelated, ComputeGradients(unrelated), {15, 15}, search_, {50, 50}).ok);
 
   LsmOptions bad;
   bad.half_window_px = 1;
-  EXPECT_NE(
-      MatchLsm(templ, {15, 15}, search_, gradients_, {50, 50}, bad).why.find("half_window_px"),
-      std::string::npos);
+  EXPECT_NE(MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {50, 50}, bad)
+                .why.find("half_window_px"),
+            std::string::npos);
 }
 
 }  // namespace

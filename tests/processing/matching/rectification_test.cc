@@ -12,23 +12,8 @@
 namespace ts {
 namespace {
 
-// A rig as built: distorted lenses, slightly converging and rotated cameras.
-StereoRig RealisticRig() {
-  StereoRig rig;
-  rig.left = rig.right = testing::PaperCamera();
-  rig.left.k1 = -0.08;
-  rig.left.k2 = 0.05;
-  rig.right.k1 = -0.07;
-  rig.right.p1 = 2e-4;
-  rig.right.principal_distance_px *= 1.003;
-  rig.baseline_m = 0.5;
-  rig.S_from_left = StereoRig::NominalSFromCamera() * RotationFromOpk({0.002, -0.003, 0.001});
-  rig.left_from_right = RotationFromOpk({0.004, 0.01, -0.002});
-  return rig;
-}
-
 TEST(Rectification, ConjugatePointsShareARowAndDisparityGivesDepth) {
-  const StereoRig rig = RealisticRig();
+  const StereoRig rig = testing::RealisticRig();
   const Rectification r = Rectify(rig);
   EXPECT_NEAR(r.baseline_m, 0.5, 1e-12);
   std::mt19937 rng(2);
@@ -45,7 +30,7 @@ TEST(Rectification, ConjugatePointsShareARowAndDisparityGivesDepth) {
 // The maps send every rectified pixel to where the original (distorted) camera saw the same
 // ray: checked by projecting 3D points both ways.
 TEST(Rectification, MapsPointIntoTheOriginalImagesWithDistortion) {
-  const StereoRig rig = RealisticRig();
+  const StereoRig rig = testing::RealisticRig();
   const Rectification r = Rectify(rig);
   const CameraModel left(rig.left), right(rig.right);
   const Eigen::Isometry3d right_from_left =
@@ -89,7 +74,7 @@ TEST(Rectification, MapsPointIntoTheOriginalImagesWithDistortion) {
 TEST(Rectification, RectifiedImagesAlignRows) {
   // A horizontal line of bright dots at 30 m in front of the rig: after rectification each
   // dot is on the same row in both images.
-  const StereoRig rig = RealisticRig();
+  const StereoRig rig = testing::RealisticRig();
   const Rectification r = Rectify(rig);
   const CameraModel left(rig.left), right(rig.right);
   const Eigen::Isometry3d right_from_left =

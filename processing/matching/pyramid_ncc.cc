@@ -1,0 +1,208 @@
+#include "processing/matching/pyramid_ncc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+namespace ts {
+
+bool PyramidNccOptions::Check(std::string* why) const {
+  std::string err;
+  if (half_window_px < 1)
+    err = "half_window_px must be at least 1";
+  else if (refine_radius_px < 1)
+    err = "refine_radius_px must be at least 1";
+  else if (coarsest_search_px < 4)
+    err = "coarsest_search_px must be at least 4";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+namespace {
+
+cv::Mat Box(const cv::Mat& m, int h) {
+  cv::Mat out;
+  cv::boxFilter(m, out, -1, cv::Size(2 * h + 1, 2 * h + 1), cv::Point(-1, -1), false,
+                cv::BORDER_REPLICATE);
+  return out;
+}
+
+// Window sums of one image, for NCC with many partners.
+struct WindowStats {
+  cv::Mat sum, variance;  // sum and n * variance over the window
+};
+WindowStats Stats(const cv::Mat& image, int h) {
+  const double n = (2 * h + 1) * (2 * h + 1);
+  WindowStats s;
+  s.sum = Box(image, h);
+  s.variance = Box(image.mul(image), h) - s.sum.mul(s.sum) / n;
+  return s;
+}
+
+// Full search of [d_min, d_max] for every pixel.
+void SearchAll(const cv::Mat& left, const cv::Mat& right, int d_min, int d_max, int h,
+               cv::Mat* disparity, cv::Mat* score) {
+  const float n = static_cast<float>((2 * h + 1) * (2 * h + 1));
+  const WindowStats ls = Stats(left, h), rs = Stats(right, h);
+  disparity->create(left.size(), CV_16SC1);
+  disparity->setTo(-1);
+  score->create(left.size(), CV_32FC1);
+  score->setTo(-2.0f);
+  cv::Mat product(left.size(), CV_32FC1);
+  // Only windows wholly inside both images are scored.
+  for (int d = d_min; d <= d_max && d < left.cols; ++d) {
+    product.setTo(0.0f);
+    for (int y = 0; y < left.rows; ++y) {
+      const float* l = left.ptr<float>(y);
+      const float* r = right.ptr<float>(y);
+      float* p = product.ptr<float>(y);
+      for (int x = d; x < left.cols; ++x) p[x] = l[x] * r[x - d];
+    }
+    const cv::Mat sums = Box(product, h);
+    for (int y = h; y + h < left.rows; ++y) {
+      const float* sp = sums.ptr<float>(y);
+      const float* sl = ls.sum.ptr<float>(y);
+      const float* vl = ls.variance.ptr<float>(y);
+      const float* sr = rs.sum.ptr<float>(y);
+      const float* vr = rs.variance.ptr<float>(y);
+      float* best = score->ptr<float>(y);
+      int16_t* disp = disparity->ptr<int16_t>(y);
+      for (int x = d + h; x + h < left.cols; ++x) {
+        const float var = vl[x] * vr[x - d];
+        if (!(var > 1e-3f)) continue;
+        const float ncc = (sp[x] - sl[x] * sr[x - d] / n) / std::sqrt(var);
+        if (ncc > best[x]) best[x] = ncc, disp[x] = static_cast<int16_t>(d);
+      }
+    }
+  }
+}
+
+// Refinement of per-pixel hypotheses by +-radius, each window under its pixels' own
+// hypotheses (see the header).
+void Refine(const cv::Mat& left, const cv::Mat& right, const cv::Mat& hypothesis, int d_min,
+            int d_max, int h, int radius, cv::Mat* disparity, cv::Mat* score) {
+  const float n = static_cast<float>((2 * h + 1) * (2 * h + 1));
+  const WindowStats ls = Stats(left, h);
+  disparity->create(left.size(), CV_16SC1);
+  disparity->setTo(-1);
+  score->create(left.size(), CV_32FC1);
+  score->setTo(-2.0f);
+  cv::Mat gathered(left.size(), CV_32FC1), valid(left.size(), CV_32FC1);
+  for (int k = -radius; k <= radius; ++k) {
+    for (int y = 0; y < left.rows; ++y) {
+      const int16_t* hyp = hypothesis.ptr<int16_t>(y);
+      const float* r = right.ptr<float>(y);
+      float* g = gathered.ptr<float>(y);
+      float* ok = valid.ptr<float>(y);
+      for (int x = 0; x < left.cols; ++x) {
+        const int d = hyp[x] + k, xr = x - d;
+        const bool inside = hyp[x] >= 0 && d >= d_min && d <= d_max && xr >= 0;
+        g[x] = inside ? r[xr] : 0.0f;
+        ok[x] = inside ? 1.0f : 0.0f;
+      }
+    }
+    const WindowStats rs = Stats(gathered, h);
+    const cv::Mat sums = Box(left.mul(gathered), h);
+    const cv::Mat count = Box(valid, h);
+    for (int y = h; y + h < left.rows; ++y) {
+      const int16_t* hyp = hypothesis.ptr<int16_t>(y);
+      const float* sp = sums.ptr<float>(y);
+      const float* sl = ls.sum.ptr<float>(y);
+      const float* vl = ls.variance.ptr<float>(y);
+      const float* sr = rs.sum.ptr<float>(y);
+      const float* vr = rs.variance.ptr<float>(y);
+      const float* c = count.ptr<float>(y);
+      float* best = score->ptr<float>(y);
+      int16_t* disp = disparity->ptr<int16_t>(y);
+      for (int x = h; x + h < left.cols; ++x) {
+        const float var = vl[x] * vr[x];
+        if (c[x] < n - 0.5f || !(var > 1e-3f)) continue;  // a window partly outside
+        const float ncc = (sp[x] - sl[x] * sr[x] / n) / std::sqrt(var);
+        if (ncc > best[x]) best[x] = ncc, disp[x] = static_cast<int16_t>(hyp[x] + k);
+      }
+    }
+  }
+}
+
+// Twice the disparities of a coarser map at the finer size (bilinear where all four
+// neighbours have one; otherwise the nearest).
+cv::Mat Upsample(const cv::Mat& coarse, cv::Size size) {
+  cv::Mat as_float, valid, up, up_valid;
+  coarse.convertTo(as_float, CV_32F);
+  valid = (coarse >= 0) / 255;
+  valid.convertTo(valid, CV_32F);
+  cv::resize(as_float.mul(valid), up, size, 0, 0, cv::INTER_LINEAR);
+  cv::resize(valid, up_valid, size, 0, 0, cv::INTER_LINEAR);
+  cv::Mat near;
+  cv::resize(coarse, near, size, 0, 0, cv::INTER_NEAREST);
+  cv::Mat out(size, CV_16SC1);
+  for (int y = 0; y < size.height; ++y) {
+    const float* u = up.ptr<float>(y);
+    const float* w = up_valid.ptr<float>(y);
+    const int16_t* nr = near.ptr<int16_t>(y);
+    int16_t* o = out.ptr<int16_t>(y);
+    for (int x = 0; x < size.width; ++x)
+      o[x] = w[x] > 0.999f ? static_cast<int16_t>(std::lround(2.0f * u[x] / w[x]))
+                           : static_cast<int16_t>(nr[x] >= 0 ? 2 * nr[x] : -1);
+  }
+  return out;
+}
+
+}  // namespace
+
+DisparityMap MatchPyramid(const cv::Mat& left, const cv::Mat& right, int d_min, int d_max,
+                          int finest_level, const PyramidNccOptions& o) {
+  CV_Assert(left.type() == CV_32FC1 && right.type() == CV_32FC1 && left.size() == right.size());
+  CV_Assert(d_min >= 0 && d_max > d_min && finest_level >= 0 && o.Check(nullptr));
+  int top = finest_level;
+  while (((d_max - d_min) >> top) > o.coarsest_search_px && (left.cols >> (top + 1)) > 32) ++top;
+  std::vector<cv::Mat> lp, rp;
+  cv::buildPyramid(left, lp, top);
+  cv::buildPyramid(right, rp, top);
+  DisparityMap map;
+  map.level = top;
+  SearchAll(lp[top], rp[top], d_min >> top, (d_max + (1 << top) - 1) >> top, o.half_window_px,
+            &map.disparity, &map.score);
+  for (int level = top - 1; level >= finest_level; --level) {
+    const cv::Mat hypothesis = Upsample(map.disparity, lp[level].size());
+    const int lo = d_min >> level, hi = (d_max + (1 << level) - 1) >> level;
+    Refine(lp[level], rp[level], hypothesis, lo, hi, o.half_window_px, o.refine_radius_px,
+           &map.disparity, &map.score);
+    map.level = level;
+  }
+  return map;
+}
+
+int BestDisparityAt(const cv::Mat& from, const cv::Mat& to, int u, int v, int lo, int hi, int h,
+                    int sign, double* score) {
+  if (v < h || v + h >= from.rows || u < h || u + h >= from.cols) return -1;
+  const int n = (2 * h + 1) * (2 * h + 1);
+  double sf = 0, sff = 0;
+  for (int y = -h; y <= h; ++y) {
+    const float* f = from.ptr<float>(v + y);
+    for (int x = -h; x <= h; ++x) sf += f[u + x], sff += f[u + x] * f[u + x];
+  }
+  const double vf = sff - sf * sf / n;
+  int best_d = -1;
+  double best = -2.0;
+  for (int d = std::max(lo, 0); d <= hi; ++d) {
+    const int c = u - sign * d;
+    if (c - h < 0 || c + h >= to.cols) continue;
+    double st = 0, stt = 0, sft = 0;
+    for (int y = -h; y <= h; ++y) {
+      const float* f = from.ptr<float>(v + y) + u;
+      const float* t = to.ptr<float>(v + y) + c;
+      for (int x = -h; x <= h; ++x) st += t[x], stt += t[x] * t[x], sft += f[x] * t[x];
+    }
+    const double var = vf * (stt - st * st / n);
+    if (!(var > 1e-6)) continue;
+    const double ncc = (sft - sf * st / n) / std::sqrt(var);
+    if (ncc > best) best = ncc, best_d = d;
+  }
+  if (score) *score = best;
+  return best_d;
+}
+
+}  // namespace ts

@@ -1,0 +1,32 @@
+#pragma once
+// Matching and intersection of every pair of a station: one rectification for the
+// calibration, the pairs matched in parallel (one pair per core), each pair's points taken
+// into L with the encoder read-back of its pose, and merged into one cloud in pair order.
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "processing/cloud/point_cloud.h"
+#include "processing/geometry/calibration.h"
+#include "processing/matching/pair_matcher.h"
+
+namespace ts {
+
+struct StereoPairImages {
+  int index = 0;         // pair index in the capture plan
+  double pan_deg = 0.0;  // encoder read-back
+  double tilt_deg = 0.0;
+  cv::Mat left, right;  // as captured (any single-channel type)
+};
+
+struct StationMatchResult {
+  PointCloud cloud;
+  std::vector<PairMatchSummary> pairs;  // in the order given
+  double rectification_s = 0.0;         // building the maps
+  double pairs_s = 0.0;                 // rectifying, matching and intersecting all pairs
+};
+
+StationMatchResult MatchStation(const Calibration& calibration,
+                                const std::vector<StereoPairImages>& pairs,
+                                const PairMatchOptions& options);
+
+}  // namespace ts

@@ -1,0 +1,81 @@
+// NCC on a pyramid against known disparity fields: a synthetic texture seen under a slanted
+// plane's disparity (as near ground is), and single windows with an exact shift.
+#include "processing/matching/pyramid_ncc.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace ts {
+namespace {
+
+cv::Mat Texture(int width, int height, unsigned seed) {
+  cv::Mat m(height, width, CV_32FC1);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(m, m, {0, 0}, 1.2);
+  return m;
+}
+
+// right(x, y) = left(x + d(y), y) with d = 20 + 0.25 y: left (x, y) <-> right (x - d, y).
+double TrueDisparity(int y) { return 20.0 + 0.25 * y; }
+
+cv::Mat RightView(const cv::Mat& left) {
+  cv::Mat map_x(left.size(), CV_32FC1), map_y(left.size(), CV_32FC1);
+  for (int y = 0; y < left.rows; ++y)
+    for (int x = 0; x < left.cols; ++x) {
+      map_x.at<float>(y, x) = static_cast<float>(x + TrueDisparity(y));
+      map_y.at<float>(y, x) = static_cast<float>(y);
+    }
+  cv::Mat right;
+  cv::remap(left, right, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  return right;
+}
+
+// The slant (0.25 px per row, as ground 5 m away) spreads an integer NCC estimate by about
+// +-1.5 px; what counts is that it stays within least-squares matching's pull-in range.
+TEST(PyramidNcc, FollowsASlantedDisparityFieldThroughTheLevels) {
+  const cv::Mat left = Texture(320, 240, 5), right = RightView(left);
+  for (const int finest : {0, 1}) {
+    const DisparityMap map = MatchPyramid(left, right, 0, 120, finest, {});
+    EXPECT_EQ(map.level, finest);
+    EXPECT_GE(map.disparity.cols, left.cols >> finest);
+    int good = 0, total = 0;
+    const int margin = 32 >> finest;  // the top level's windows reach 12 px, and twice that
+    for (int y = margin; y < map.disparity.rows - margin; ++y)
+      for (int x = (90 >> finest); x < map.disparity.cols - margin; ++x) {
+        ++total;
+        const double truth = TrueDisparity(y << finest) / (1 << finest);
+        good += std::abs(map.disparity.at<int16_t>(y, x) - truth) <= 2.0;
+      }
+    EXPECT_GT(good, 0.97 * total) << "finest level " << finest;
+  }
+}
+
+TEST(PyramidNcc, BestDisparityAtFindsAnExactShiftBothWays) {
+  const cv::Mat left = Texture(200, 100, 6);
+  cv::Mat right = cv::Mat::zeros(left.size(), CV_32FC1);
+  left.colRange(17, 200).copyTo(right.colRange(0, 183));  // d = 17 everywhere
+  double score = 0.0;
+  EXPECT_EQ(BestDisparityAt(left, right, 120, 50, 0, 60, 3, +1, &score), 17);
+  EXPECT_NEAR(score, 1.0, 1e-6);
+  EXPECT_EQ(BestDisparityAt(right, left, 80, 50, 0, 60, 3, -1, &score), 17);
+  EXPECT_NEAR(score, 1.0, 1e-6);
+  // A range that excludes the truth finds something else, with a poor score.
+  EXPECT_NE(BestDisparityAt(left, right, 120, 50, 30, 60, 3, +1, &score), 17);
+  EXPECT_LT(score, 0.7);
+  // Windows that do not fit give none.
+  EXPECT_EQ(BestDisparityAt(left, right, 2, 50, 0, 60, 3, +1, &score), -1);
+  EXPECT_EQ(BestDisparityAt(left, right, 10, 50, 20, 60, 3, +1, &score), -1);
+}
+
+TEST(PyramidNcc, RejectsBadOptions) {
+  PyramidNccOptions o;
+  std::string why;
+  o.refine_radius_px = 0;
+  EXPECT_FALSE(o.Check(&why));
+  EXPECT_NE(why.find("refine_radius_px"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
