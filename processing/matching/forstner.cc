@@ -68,8 +68,11 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
   // Robust threshold: relative to the median weight of the image interior.
   const cv::Rect interior(o.border_px, o.border_px, std::max(1, f.cols - 2 * o.border_px),
                           std::max(1, f.rows - 2 * o.border_px));
-  const cv::Mat inner = w(interior).clone();  // continuous
-  std::vector<float> values(inner.ptr<float>(), inner.ptr<float>() + inner.total());
+  // (Every 4th pixel of every 4th row: the median of a million pixels needs no more.)
+  std::vector<float> values;
+  for (int y = interior.y; y < interior.y + interior.height; y += 4)
+    for (int x = interior.x; x < interior.x + interior.width; x += 4)
+      values.push_back(w.at<float>(y, x));
   if (values.empty()) return {};
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
   const float threshold =
@@ -94,8 +97,10 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
         }
       }
       if (best_x < 0) continue;
-      points.push_back({Locate(gx, gy, best_x, best_y, o.locate_half_window_px), best,
-                        q.at<float>(best_y, best_x)});
+      const Eigen::Vector2d at = o.subpixel
+                                     ? Locate(gx, gy, best_x, best_y, o.locate_half_window_px)
+                                     : Eigen::Vector2d(best_x, best_y);
+      points.push_back({at, best, q.at<float>(best_y, best_x)});
     }
   }
   // Strongest first; a point is kept unless a kept one lies within half a cell. Kept points

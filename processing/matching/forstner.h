@@ -26,7 +26,8 @@ struct ForstnerOptions {
   // true: a cell's point must be a local maximum of w (the classic operator: corners only);
   // false: every cell with enough texture gives its strongest pixel (dense matching).
   bool local_maxima_only = true;
-  int border_px = 8;  // no points this close to the image border
+  bool subpixel = true;  // false: the pixel itself (e.g. for a matcher whose windows sit on pixels)
+  int border_px = 8;     // no points this close to the image border
   bool Check(std::string* why) const;
 };
 

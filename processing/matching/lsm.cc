@@ -126,7 +126,9 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
     const float mean = column.mean(), along = static_cast<float>(column.dot(fv) / var_f);
     column.array() -= mean + along * fv.array();
   }
-  const Matrix6d normal = (jacobian.transpose() * jacobian).cast<double>();
+  Eigen::Matrix<float, 6, 6> normal_f;  // 21 vectorised dot products, no GEMM blocking
+  normal_f.noalias() = jacobian.transpose().lazyProduct(jacobian);
+  const Matrix6d normal = normal_f.cast<double>();
   const Eigen::LDLT<Matrix6d> ldlt(normal);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
       !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff())) {

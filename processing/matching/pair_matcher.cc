@@ -52,6 +52,11 @@ std::vector<cv::Point> Points(const cv::Mat& enhanced_left, const PairMatchOptio
   for (const InterestPoint& p : DetectForstner(enhanced_left, o.interest))
     points.emplace_back(static_cast<int>(std::lround(p.position_px.x())),
                         static_cast<int>(std::lround(p.position_px.y())));
+  // In image order, so that consecutive windows share cache lines (Förstner's order is by
+  // strength: scattered over the image).
+  std::sort(points.begin(), points.end(), [](const cv::Point& a, const cv::Point& b) {
+    return a.y != b.y ? a.y < b.y : a.x < b.x;
+  });
   return points;
 }
 

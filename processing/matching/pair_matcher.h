@@ -29,6 +29,7 @@ struct PairMatchOptions {
     o.local_maxima_only = false;
     o.min_roundness = 0.0;
     o.min_weight_factor = 0.01;
+    o.subpixel = false;  // LSM windows are centred on pixels
     return o;
   }();
   int dense_step_px = 0;  // 0: Förstner points; n > 0: every n-th pixel of every n-th row
