@@ -15,6 +15,7 @@
 #include "processing/matching/station_matching.h"
 #include "sim/sim_station.h"
 #include "tests/bench/bench_table.h"
+#include "tests/common/sim_pair.h"
 
 namespace {
 
@@ -26,28 +27,17 @@ double Quantile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
 }
 
-// Renders the 12 pairs of a station with their true range images.
-struct RenderedPair {
-  StereoPairImages images;
-  cv::Mat left_range;
-};
-std::vector<RenderedPair> RenderStation(const sim::SimStation& station) {
-  const Calibration& cal = station.rig.truth;
-  const std::vector<StagePose> plan = MakeCapturePlan(cal, {});
-  std::vector<RenderedPair> pairs(plan.size());
+// Renders the 12 pairs of a station with the left views' true range images.
+std::vector<StereoPairImages> RenderStation(const sim::SimStation& station,
+                                            std::vector<cv::Mat>* left_ranges) {
+  const std::vector<StagePose> plan = MakeCapturePlan(station.rig.truth, {});
+  std::vector<StereoPairImages> pairs(plan.size());
+  left_ranges->resize(plan.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(plan.size())), [&](const cv::Range& range) {
     sim::Renderer renderer(station.scene, station.mesh);
-    for (int i = range.start; i < range.end; ++i) {
-      sim::FrameRequest request;
-      request.pan_deg = plan[i].pan_deg;
-      request.tilt_deg = plan[i].tilt_deg;
-      request.exposure_us = 5000;
-      RenderedPair& p = pairs[i];
-      p.images = {i, plan[i].pan_deg, plan[i].tilt_deg, {}, {}};
-      p.images.left = sim::RenderFrame(renderer, station, request, &p.left_range);
-      request.side = Side::kRight;
-      p.images.right = sim::RenderFrame(renderer, station, request);
-    }
+    for (int i = range.start; i < range.end; ++i)
+      pairs[i] = testing::RenderSimPair(renderer, station, i, plan[i].pan_deg, plan[i].tilt_deg,
+                                        &(*left_ranges)[i]);
   });
   return pairs;
 }
@@ -58,42 +48,48 @@ void SimulatedStation(const std::string& scene, bench::Table* table) {
   options.seed = 6;
   const auto station = *sim::BuildSimStation(options);
   const Calibration& cal = station->rig.truth;
-  const std::vector<RenderedPair> rendered = RenderStation(*station);
-  std::vector<StereoPairImages> pairs;
-  for (const RenderedPair& p : rendered) pairs.push_back(p.images);
+  std::vector<cv::Mat> left_ranges;
+  const std::vector<StereoPairImages> pairs = RenderStation(*station, &left_ranges);
 
-  const PairMatchOptions match_options;
-  StationMatchResult result = MatchStation(cal, pairs, match_options);
+  const StationMatchResult result = MatchStation(cal, pairs, PairMatchOptions{});
   const double wall_s = result.rectification_s + result.pairs_s;
 
-  // Every match again (same options: matching is deterministic) to compare with the truth.
+  // Each point of the timed cloud back into its pair's rectified left view: the template
+  // centre it was matched at, its disparity, and there the true range.
   const Rectification r = Rectify(cal.rig);
+  std::vector<cv::Mat> true_range(pairs.size());
+  std::vector<Eigen::Isometry3d> rect_from_l(pairs.size());
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    cv::remap(left_ranges[i], true_range[i], r.left_map_x, r.left_map_y, cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT, NAN);
+    Eigen::Isometry3d left_from_rect = Eigen::Isometry3d::Identity();
+    left_from_rect.linear() = r.left_from_rect;
+    rect_from_l[i] =
+        (cal.LFromCamera(Side::kLeft, pairs[i].pan_deg, pairs[i].tilt_deg) * left_from_rect)
+            .inverse();
+  }
   std::vector<double> errors, ratios;
   double ground_50m = 0;
-  for (const RenderedPair& p : rendered) {
-    cv::Mat left, right, range;
-    RectifyPair(r, p.images.left, p.images.right, &left, &right);
-    cv::remap(p.left_range, range, r.left_map_x, r.left_map_y, cv::INTER_LINEAR,
-              cv::BORDER_CONSTANT, NAN);
-    const Eigen::Isometry3d l_from_left =
-        cal.LFromCamera(Side::kLeft, p.images.pan_deg, p.images.tilt_deg);
-    for (const StereoMatch& m : MatchRectifiedPair(r, left, right, match_options)) {
-      const double true_range =
-          range.at<float>(static_cast<int>(m.left_px.y()), static_cast<int>(m.left_px.x()));
-      if (!std::isfinite(true_range)) continue;
-      const Eigen::Vector3d ray(m.left_px.x() - r.principal_point_px.x(),
-                                m.left_px.y() - r.principal_point_px.y(), r.focal_px);
-      const double true_d = r.focal_px * r.baseline_m * ray.norm() / (r.focal_px * true_range);
-      errors.push_back(std::abs(m.disparity_px - true_d));
-      const double range_m = r.baseline_m * ray.norm() / m.disparity_px;
-      const double sigma_range_m = range_m / m.disparity_px * m.sigma_disparity_px;
-      const Eigen::Vector3d point =
-          l_from_left * (r.left_from_rect * (ray.normalized() * true_range));
-      const double terrain = station->scene.TerrainHeight(point.x(), point.y());
-      const bool ground = std::abs(point.z() - terrain) < 0.2;
-      if (ground && point.head<2>().norm() <= 50.0) ++ground_50m;
-      if (true_range <= 30.0) ratios.push_back((range_m - true_range) / sigma_range_m);
-    }
+  for (const CloudPoint& p : result.cloud) {
+    const Eigen::Vector3d q = rect_from_l[p.pair] * p.position_m;
+    const double disparity = r.focal_px * r.baseline_m / q.z();
+    const int u =
+        static_cast<int>(std::lround(r.principal_point_px.x() + r.focal_px * q.x() / q.z()));
+    const int v =
+        static_cast<int>(std::lround(r.principal_point_px.y() + r.focal_px * q.y() / q.z()));
+    const double true_range_m = true_range[p.pair].at<float>(v, u);
+    if (!std::isfinite(true_range_m)) continue;
+    const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(),
+                              r.focal_px);
+    const double true_d = r.baseline_m * ray.norm() / true_range_m;
+    errors.push_back(std::abs(disparity - true_d));
+    const double range_m = q.norm();
+    const double sigma_range_m = range_m / disparity * p.sigma_disparity_px;
+    const Eigen::Vector3d truth = rect_from_l[p.pair].inverse() * (ray.normalized() * true_range_m);
+    const bool ground =
+        std::abs(truth.z() - station->scene.TerrainHeight(truth.x(), truth.y())) < 0.2;
+    if (ground && truth.head<2>().norm() <= 50.0) ++ground_50m;
+    if (true_range_m <= 30.0) ratios.push_back((range_m - true_range_m) / sigma_range_m);
   }
   const double median = Quantile(errors, 0.5), p95 = Quantile(errors, 0.95);
   const double bad = std::count_if(errors.begin(), errors.end(), [](double e) { return e > 1; }) /
@@ -101,10 +97,10 @@ void SimulatedStation(const std::string& scene, bench::Table* table) {
   double sum2 = 0.0;
   for (double q : ratios) sum2 += q * q;
   const double ratio_rms = std::sqrt(sum2 / ratios.size());
-  const double per_pair = ground_50m / rendered.size();
+  const double per_pair = ground_50m / pairs.size();
   const std::string s = scene + ": ";
-  table->Add({s + "matched points per pair", static_cast<double>(errors.size()) / rendered.size(),
-              "", ""});
+  table->Add(
+      {s + "matched points per pair", static_cast<double>(errors.size()) / pairs.size(), "", ""});
   table->Add(
       {s + "ground points within 50 m per pair", per_pair, "", ">= 30000", per_pair >= 30000});
   table->Add({s + "median |disparity error|", median, "px", "<= 0.05", median <= 0.05});

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "sim/sim_station.h"
+#include "tests/common/sim_pair.h"
 #include "tests/common/terrain_march.h"
 
 namespace ts::sim {
@@ -24,17 +25,11 @@ TEST(PairMatching, DisparitiesAgreeWithTheTrueSurface) {
   const Calibration& cal = station->rig.truth;
   const double pan = 60.0, tilt = AutomaticTiltDeg(cal, {});
   Renderer renderer(station->scene, station->mesh);
-  FrameRequest request;
-  request.pan_deg = pan;
-  request.tilt_deg = tilt;
-  request.exposure_us = 5000;
-  const cv::Mat left = RenderFrame(renderer, *station, request);
-  request.side = Side::kRight;
-  const cv::Mat right = RenderFrame(renderer, *station, request);
+  const StereoPairImages pair = testing::RenderSimPair(renderer, *station, 0, pan, tilt);
 
   const Rectification r = Rectify(cal.rig);
   cv::Mat left_rect, right_rect;
-  RectifyPair(r, left, right, &left_rect, &right_rect);
+  RectifyPair(r, pair.left, pair.right, &left_rect, &right_rect);
   PairMatchSummary summary;
   const std::vector<StereoMatch> matches =
       MatchRectifiedPair(r, left_rect, right_rect, PairMatchOptions{}, &summary);
@@ -83,16 +78,8 @@ TEST(StationMatching, PointsOfEveryPairLieOnTheTerrainInL) {
   const double tilt = AutomaticTiltDeg(cal, {});
   Renderer renderer(station->scene, station->mesh);
   std::vector<StereoPairImages> pairs;
-  for (const auto& [index, pan] : {std::pair{2, 60.0}, std::pair{7, 210.0}}) {
-    FrameRequest request;
-    request.pan_deg = pan;
-    request.tilt_deg = tilt;
-    request.exposure_us = 5000;
-    StereoPairImages p{index, pan, tilt, RenderFrame(renderer, *station, request), {}};
-    request.side = Side::kRight;
-    p.right = RenderFrame(renderer, *station, request);
-    pairs.push_back(p);
-  }
+  for (const auto& [index, pan] : {std::pair{2, 60.0}, std::pair{7, 210.0}})
+    pairs.push_back(testing::RenderSimPair(renderer, *station, index, pan, tilt));
   const StationMatchResult result = MatchStation(cal, pairs, PairMatchOptions{});
   ASSERT_EQ(result.pairs.size(), 2u);
   std::map<int, std::vector<double>> height_errors;

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+
 #include <random>
 #include <stdexcept>
+#include "tests/common/random_texture.h"
 
 namespace ts {
 namespace {
@@ -24,13 +26,7 @@ cv::Mat Corner(double cx, double cy) {
   return m;
 }
 
-cv::Mat Texture(int width, int height, unsigned seed) {
-  cv::Mat m(height, width, CV_32FC1);
-  cv::RNG rng(seed);
-  rng.fill(m, cv::RNG::UNIFORM, 0, 255);
-  cv::GaussianBlur(m, m, {0, 0}, 1.2);
-  return m;
-}
+using testing::RandomTexture;
 
 TEST(Forstner, LocatesACornerToSubPixelPrecision) {
   for (const auto& [cx, cy] : {std::pair{40.3, 37.6}, std::pair{38.75, 41.1}}) {
@@ -45,7 +41,7 @@ TEST(Forstner, LocatesACornerToSubPixelPrecision) {
 }
 
 TEST(Forstner, PointsAreSpreadOnTheGridNotClumped) {
-  const cv::Mat image = Texture(240, 160, 3);
+  const cv::Mat image = RandomTexture(240, 160, 3);
   ForstnerOptions o;
   const auto points = DetectForstner(image, o);
   const int cells = ((240 - 16 + 7) / 8) * ((160 - 16 + 7) / 8);
@@ -63,7 +59,7 @@ TEST(Forstner, PointsAreSpreadOnTheGridNotClumped) {
 // Dense use: every textured cell gives its strongest pixel, still never two within half a
 // cell; flat parts of the image give none.
 TEST(Forstner, DenseModeGivesAPointInEveryTexturedCell) {
-  cv::Mat image = Texture(240, 160, 4);
+  cv::Mat image = RandomTexture(240, 160, 4);
   image.colRange(120, 240).setTo(100);  // right half flat
   ForstnerOptions o;
   o.cell_px = 4;

@@ -6,16 +6,12 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "tests/common/random_texture.h"
+
 namespace ts {
 namespace {
 
-cv::Mat Texture(int width, int height, unsigned seed) {
-  cv::Mat m(height, width, CV_32FC1);
-  cv::RNG rng(seed);
-  rng.fill(m, cv::RNG::UNIFORM, 0, 255);
-  cv::GaussianBlur(m, m, {0, 0}, 1.2);
-  return m;
-}
+using testing::RandomTexture;
 
 // right(x, y) = left(x + d(y), y) with d = 20 + 0.25 y: left (x, y) <-> right (x - d, y).
 double TrueDisparity(int y) { return 20.0 + 0.25 * y; }
@@ -35,7 +31,7 @@ cv::Mat RightView(const cv::Mat& left) {
 // The slant (0.25 px per row, as ground 5 m away) spreads an integer NCC estimate by about
 // +-1.5 px; what counts is that it stays within least-squares matching's pull-in range.
 TEST(PyramidNcc, FollowsASlantedDisparityFieldThroughTheLevels) {
-  const cv::Mat left = Texture(320, 240, 5), right = RightView(left);
+  const cv::Mat left = RandomTexture(320, 240, 5), right = RightView(left);
   for (const int finest : {0, 1}) {
     const DisparityMap map = MatchPyramid(left, right, 0, 120, finest, {});
     EXPECT_EQ(map.level, finest);
@@ -53,7 +49,7 @@ TEST(PyramidNcc, FollowsASlantedDisparityFieldThroughTheLevels) {
 }
 
 TEST(PyramidNcc, BestDisparityAtFindsAnExactShiftBothWays) {
-  const cv::Mat left = Texture(200, 100, 6);
+  const cv::Mat left = RandomTexture(200, 100, 6);
   cv::Mat right = cv::Mat::zeros(left.size(), CV_32FC1);
   left.colRange(17, 200).copyTo(right.colRange(0, 183));  // d = 17 everywhere
   double score = 0.0;
