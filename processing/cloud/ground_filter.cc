@@ -1,0 +1,105 @@
+#include "processing/cloud/ground_filter.h"
+
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "processing/cloud/fill_holes.h"
+#include "processing/cloud/grid_index.h"
+
+namespace ts {
+
+bool GroundFilterOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(cell_m > 0.0))
+    err = "cell_m must be positive";
+  else if (!(slope >= 0.0))
+    err = "slope must be >= 0";
+  else if (!(max_window_m >= cell_m))
+    err = "max_window_m must be at least one cell";
+  else if (!(elevation_threshold_m > 0.0))
+    err = "elevation_threshold_m must be positive";
+  else if (!(elevation_scaler >= 0.0))
+    err = "elevation_scaler must be >= 0";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+namespace {
+
+// Bilinear interpolation between cell centres, clamped to the grid.
+float Sample(const cv::Mat& grid, double col_f, double row_f) {
+  col_f = std::clamp(col_f, 0.0, grid.cols - 1.0);
+  row_f = std::clamp(row_f, 0.0, grid.rows - 1.0);
+  const int c0 = std::min(static_cast<int>(col_f), grid.cols - 2 < 0 ? 0 : grid.cols - 2);
+  const int r0 = std::min(static_cast<int>(row_f), grid.rows - 2 < 0 ? 0 : grid.rows - 2);
+  const int c1 = std::min(c0 + 1, grid.cols - 1), r1 = std::min(r0 + 1, grid.rows - 1);
+  const float tx = static_cast<float>(col_f - c0), ty = static_cast<float>(row_f - r0);
+  const float a = grid.at<float>(r0, c0) + tx * (grid.at<float>(r0, c1) - grid.at<float>(r0, c0));
+  const float b = grid.at<float>(r1, c0) + tx * (grid.at<float>(r1, c1) - grid.at<float>(r1, c0));
+  return a + ty * (b - a);
+}
+
+}  // namespace
+
+GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
+                                const GroundFilterOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("GroundFilterOptions: " + why);
+  GroundFilterResult result;
+  result.ground.assign(points.size(), 0);
+  const GridIndex grid(points, o.cell_m);
+  if (grid.cols() == 0) return result;
+  result.min_x_m = grid.min_x_m(), result.min_y_m = grid.min_y_m(), result.cell_m = o.cell_m;
+
+  // 1. Minimum surface.
+  cv::Mat lowest(grid.rows(), grid.cols(), CV_32FC1, cv::Scalar(0));
+  cv::Mat known(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
+  for (int r = 0; r < grid.rows(); ++r)
+    for (int c = 0; c < grid.cols(); ++c) {
+      double z = std::numeric_limits<double>::infinity();
+      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
+        z = std::min(z, points[*i].z());
+      if (std::isfinite(z))
+        lowest.at<float>(r, c) = static_cast<float>(z), known.at<uint8_t>(r, c) = 1;
+    }
+  const cv::Mat surface = FillHoles(lowest, known);
+
+  // 2. Progressive opening: cells an opening lowers by more than the slope allows are objects.
+  cv::Mat object(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
+  cv::Mat last = surface.clone(), opened;
+  const int max_radius = std::max(1, static_cast<int>(std::lround(o.max_window_m / o.cell_m)));
+  for (int radius = 1; radius <= max_radius; ++radius) {
+    const cv::Mat disk =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+    cv::morphologyEx(last, opened, cv::MORPH_OPEN, disk, cv::Point(-1, -1), 1,
+                     cv::BORDER_REPLICATE);
+    const float threshold = static_cast<float>(o.slope * radius * o.cell_m);
+    object.setTo(1, (last - opened) > threshold);
+    std::swap(last, opened);
+  }
+
+  // 3. Provisional ground: the minimum surface without the object cells, inpainted.
+  known.setTo(0, object);
+  result.surface = FillHoles(lowest, known);
+
+  // 4. Points near the provisional ground (allowing for its local slope) are ground.
+  cv::Mat gx, gy, slope;
+  cv::Sobel(result.surface, gx, CV_32F, 1, 0, 3, 1.0 / (8.0 * o.cell_m), 0, cv::BORDER_REPLICATE);
+  cv::Sobel(result.surface, gy, CV_32F, 0, 1, 3, 1.0 / (8.0 * o.cell_m), 0, cv::BORDER_REPLICATE);
+  cv::magnitude(gx, gy, slope);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    if (!p.allFinite()) continue;
+    const double col_f = (p.x() - grid.min_x_m()) / o.cell_m - 0.5;
+    const double row_f = (p.y() - grid.min_y_m()) / o.cell_m - 0.5;
+    const double threshold =
+        o.elevation_threshold_m + o.elevation_scaler * Sample(slope, col_f, row_f);
+    result.ground[i] = std::abs(p.z() - Sample(result.surface, col_f, row_f)) <= threshold;
+  }
+  return result;
+}
+
+}  // namespace ts

@@ -1,0 +1,39 @@
+#pragma once
+// Ground filter: separates bare earth from trees, bushes and other above-ground objects in a
+// point cloud. The simple morphological filter (SMRF, Pingel, Vosselman & Ogundipe 2013):
+//  1. the lowest point of every cell of a grid is a first, too-low surface; empty cells
+//     (occlusion shadows behind objects, density falling with range) are filled (FillHoles);
+//  2. progressive morphological opening with disks of radius 1 .. max_window_m: a cell that
+//     the opening lowers by more than slope x radius belongs to an object;
+//  3. the surface without those cells, filled again, is the provisional ground;
+//  4. a point is ground when it lies within elevation_threshold_m + elevation_scaler x (local
+//     slope of the provisional ground) of it (the slope term allows for steep cells).
+// It needs no ordering or scan geometry, so it serves terrestrial clouds as well as airborne.
+#include <Eigen/Core>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace ts {
+
+struct GroundFilterOptions {
+  double cell_m = 1.0;
+  double slope = 0.15;         // steepest terrain slope to keep (rise over run)
+  double max_window_m = 18.0;  // radius of the largest opening: wider than any object
+  double elevation_threshold_m = 0.5;
+  double elevation_scaler = 1.25;
+  bool Check(std::string* why) const;
+};
+
+struct GroundFilterResult {
+  std::vector<uint8_t> ground;  // one flag per input point, 1 = ground
+  // The provisional ground surface on the filter's grid (row 0 at min_y, CV_32FC1).
+  cv::Mat surface;
+  double min_x_m = 0.0, min_y_m = 0.0, cell_m = 1.0;
+};
+
+GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
+                                const GroundFilterOptions& options);
+
+}  // namespace ts

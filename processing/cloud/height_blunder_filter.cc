@@ -1,0 +1,59 @@
+#include "processing/cloud/height_blunder_filter.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "processing/cloud/grid_index.h"
+
+namespace ts {
+
+bool HeightBlunderOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(window_m > 0.0))
+    err = "window_m must be positive";
+  else if (!(threshold_m > 0.0))
+    err = "threshold_m must be positive";
+  else if (min_neighbours < 1)
+    err = "min_neighbours must be at least 1";
+  else if (max_samples < 3)
+    err = "max_samples must be at least 3";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+std::vector<uint8_t> FindHeightBlunders(const std::vector<Eigen::Vector3d>& points,
+                                        const HeightBlunderOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("HeightBlunderOptions: " + why);
+  std::vector<uint8_t> blunder(points.size(), 0);
+  constexpr int kReach = 2;  // cells each side: the window is 5 cells wide
+  const GridIndex grid(points, o.window_m / (2 * kReach + 1));
+  std::vector<double> heights;
+  for (int row = 0; row < grid.rows(); ++row)
+    for (int col = 0; col < grid.cols(); ++col) {
+      if (grid.Count(col, row) == 0) continue;
+      int total = 0;
+      for (int r = row - kReach; r <= row + kReach; ++r)
+        for (int c = col - kReach; c <= col + kReach; ++c)
+          if (grid.Inside(c, r)) total += grid.Count(c, r);
+      if (total < o.min_neighbours + 1) continue;
+      const int stride = std::max(1, total / o.max_samples);
+      heights.clear();
+      int k = 0;
+      for (int r = row - kReach; r <= row + kReach; ++r)
+        for (int c = col - kReach; c <= col + kReach; ++c) {
+          if (!grid.Inside(c, r)) continue;
+          for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i, ++k)
+            if (k % stride == 0) heights.push_back(points[*i].z());
+        }
+      auto mid = heights.begin() + heights.size() / 2;
+      std::nth_element(heights.begin(), mid, heights.end());
+      const double median = *mid;
+      for (const int* i = grid.begin(col, row); i != grid.end(col, row); ++i)
+        blunder[*i] = std::abs(points[*i].z() - median) > o.threshold_m;
+    }
+  return blunder;
+}
+
+}  // namespace ts

@@ -1,0 +1,146 @@
+#include "processing/io/point_cloud_file.h"
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "processing/io/atomic_file.h"
+
+namespace ts {
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  std::string tail = s.substr(s.size() - suffix.size());
+  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return tail == suffix;
+}
+
+// Value of a scalar field of any numeric PCL type.
+double FieldValue(const uint8_t* p, uint8_t datatype) {
+  switch (datatype) {
+    case pcl::PCLPointField::FLOAT32: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::FLOAT64: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+    case pcl::PCLPointField::INT32: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::UINT32: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case pcl::PCLPointField::INT16: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::UINT16: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case pcl::PCLPointField::INT8:
+      return static_cast<int8_t>(*p);
+    case pcl::PCLPointField::UINT8:
+      return *p;
+    default:
+      return NAN;
+  }
+}
+
+void AddField(pcl::PCLPointCloud2* cloud, const std::string& name, uint8_t datatype, int size) {
+  pcl::PCLPointField f;
+  f.name = name;
+  f.offset = cloud->point_step;
+  f.datatype = datatype;
+  f.count = 1;
+  cloud->fields.push_back(f);
+  cloud->point_step += size;
+}
+
+}  // namespace
+
+Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path) {
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+  if (!std::filesystem::is_regular_file(path)) return Error{path + ": no such file"};
+  pcl::PCLPointCloud2 cloud;
+  int status = -1;
+  if (EndsWith(path, ".pcd")) {
+    status = pcl::io::loadPCDFile(path, cloud);
+  } else if (EndsWith(path, ".ply")) {
+    status = pcl::io::loadPLYFile(path, cloud);
+  } else {
+    return Error{path + ": not a point cloud file (expected .pcd or .ply)"};
+  }
+  if (status < 0) return Error{path + ": unreadable point cloud (PCL could not parse it)"};
+  const pcl::PCLPointField* xyz[3] = {nullptr, nullptr, nullptr};
+  for (const pcl::PCLPointField& f : cloud.fields)
+    for (int k = 0; k < 3; ++k)
+      if (f.name == std::string(1, "xyz"[k])) xyz[k] = &f;
+  for (int k = 0; k < 3; ++k)
+    if (!xyz[k]) return Error{path + ": field " + std::string(1, "xyz"[k]) + " missing"};
+  const size_t n = static_cast<size_t>(cloud.width) * cloud.height;
+  if (cloud.data.size() < n * cloud.point_step)
+    return Error{path + ": truncated (fewer bytes than its header's points)"};
+  std::vector<Eigen::Vector3d> points(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* p = cloud.data.data() + i * cloud.point_step;
+    for (int k = 0; k < 3; ++k) points[i][k] = FieldValue(p + xyz[k]->offset, xyz[k]->datatype);
+  }
+  return points;
+}
+
+Status WritePly(const std::string& path, const std::vector<Eigen::Vector3d>& points,
+                const std::vector<PlyColumn>& columns) {
+  pcl::PCLPointCloud2 cloud;
+  cloud.height = 1;
+  cloud.width = static_cast<uint32_t>(points.size());
+  cloud.is_dense = false;
+  for (const char* axis : {"x", "y", "z"}) AddField(&cloud, axis, pcl::PCLPointField::FLOAT64, 8);
+  for (const PlyColumn& c : columns) {
+    const size_t filled = !c.f32.empty() + !c.i32.empty() + !c.u8.empty();
+    const size_t size = c.f32.size() + c.i32.size() + c.u8.size();
+    if (filled > 1 || size != points.size())
+      return Error{path + ": column " + c.name + " does not have one value per point"};
+    if (!c.f32.empty()) AddField(&cloud, c.name, pcl::PCLPointField::FLOAT32, 4);
+    if (!c.i32.empty()) AddField(&cloud, c.name, pcl::PCLPointField::INT32, 4);
+    if (!c.u8.empty()) AddField(&cloud, c.name, pcl::PCLPointField::UINT8, 1);
+  }
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.data.resize(static_cast<size_t>(cloud.row_step));
+  for (size_t i = 0; i < points.size(); ++i) {
+    uint8_t* p = cloud.data.data() + i * cloud.point_step;
+    std::memcpy(p, points[i].data(), 24);
+    for (size_t c = 0; c < columns.size(); ++c) {
+      uint8_t* q = p + cloud.fields[3 + c].offset;
+      if (!columns[c].f32.empty()) std::memcpy(q, &columns[c].f32[i], 4);
+      if (!columns[c].i32.empty()) std::memcpy(q, &columns[c].i32[i], 4);
+      if (!columns[c].u8.empty()) *q = columns[c].u8[i];
+    }
+  }
+  // PCL writes to a path: let it write a scratch file, then publish the bytes atomically.
+  const std::string scratch = path + ".tmp-pcl";
+  pcl::PLYWriter writer;
+  const int status = writer.writeBinary(scratch, cloud, Eigen::Vector4f::Zero(),
+                                        Eigen::Quaternionf::Identity(), /*use_camera=*/false);
+  Result<std::string> bytes = ReadWholeFile(scratch);
+  std::filesystem::remove(scratch);
+  if (status < 0 || !bytes) return Error{path + ": could not write the PLY file"};
+  return WriteFileAtomically(path, *bytes);
+}
+
+}  // namespace ts

@@ -1,0 +1,68 @@
+#include "processing/cloud/ground_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tests/common/isprs_sample.h"
+
+namespace ts {
+namespace {
+
+TEST(GroundFilter, MeanTotalErrorOnTheIsprsSamplesIsAtMostSixPercent) {
+  double sum = 0.0;
+  for (const std::string& name : testing::kIsprsSamples) {
+    const testing::IsprsSample s = testing::LoadIsprsSample(name);
+    ASSERT_GT(s.points.size(), 1000u) << name;
+    const GroundFilterResult r = FilterGround(s.points, GroundFilterOptions{});
+    const testing::FilterErrors e = testing::ClassificationErrors(s.reference_ground, r.ground);
+    std::printf("%s: %zu points, type I %.2f %%, type II %.2f %%, total %.2f %%\n", name.c_str(),
+                s.points.size(), 100 * e.type1, 100 * e.type2, 100 * e.total);
+    sum += e.total;
+  }
+  EXPECT_LE(sum / testing::kIsprsSamples.size(), 0.06);
+}
+
+// A tilted plane with noise, a "tree" (a 4 m cylinder of points 2-8 m up) and a box-shaped
+// building 10 m wide: ground points stay, every object point goes.
+TEST(GroundFilter, KeepsATiltedPlaneAndRemovesObjectsOnIt) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-40.0, 40.0);
+  std::normal_distribution<double> noise(0.0, 0.03);
+  auto terrain = [](double x, double y) { return 0.1 * x - 0.05 * y; };
+  std::vector<Eigen::Vector3d> points;
+  std::vector<uint8_t> truth;
+  for (int i = 0; i < 40000; ++i) {
+    const double x = u(rng), y = u(rng);
+    const bool in_tree = std::hypot(x - 10.0, y - 5.0) < 2.0;
+    const bool in_building = std::abs(x + 15.0) < 5.0 && std::abs(y + 10.0) < 5.0;
+    double z = terrain(x, y) + noise(rng);
+    if (in_tree) z += 2.0 + 6.0 * (i % 7) / 6.0;
+    if (in_building) z += 4.0;
+    points.emplace_back(x, y, z);
+    truth.push_back(!in_tree && !in_building);
+  }
+  const GroundFilterResult r = FilterGround(points, GroundFilterOptions{});
+  const testing::FilterErrors e = testing::ClassificationErrors(truth, r.ground);
+  EXPECT_LT(e.type1, 0.01);
+  EXPECT_EQ(e.type2, 0.0);
+}
+
+TEST(GroundFilter, RejectsBadOptions) {
+  GroundFilterOptions o;
+  o.cell_m = 0.0;
+  std::string why;
+  EXPECT_FALSE(o.Check(&why));
+  EXPECT_NE(why.find("cell_m"), std::string::npos);
+  EXPECT_THROW(FilterGround({}, o), std::invalid_argument);
+  o = {};
+  o.max_window_m = 0.5;
+  EXPECT_FALSE(o.Check(&why));
+}
+
+TEST(GroundFilter, EmptyCloudGivesNoGround) {
+  EXPECT_TRUE(FilterGround({}, GroundFilterOptions{}).ground.empty());
+}
+
+}  // namespace
+}  // namespace ts
