@@ -1,0 +1,149 @@
+#include "processing/dem/kriging.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+
+#include "processing/cloud/grid_index.h"
+
+namespace ts {
+
+bool KrigingOptions::Check(std::string* why) const {
+  std::string err;
+  if (neighbours < 1 || neighbours > 64)
+    err = "neighbours must be in [1, 64]";
+  else if (!(search_radius_m > 0.0))
+    err = "search_radius_m must be positive";
+  else if (!(max_distance_m > 0.0))
+    err = "max_distance_m must be positive";
+  else if (!(thin_cell_m >= 0.0))
+    err = "thin_cell_m must be >= 0";
+  else if (!variogram.Check(&err))
+    err = "variogram: " + err;
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+std::vector<Eigen::Vector3d> ThinPoints(const std::vector<Eigen::Vector3d>& points, double cell_m) {
+  if (!(cell_m > 0.0)) return points;
+  const GridIndex grid(points, cell_m);
+  std::vector<Eigen::Vector3d> thinned;
+  for (int r = 0; r < grid.rows(); ++r)
+    for (int c = 0; c < grid.cols(); ++c) {
+      if (grid.Count(c, r) == 0) continue;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) sum += points[*i];
+      thinned.push_back(sum / grid.Count(c, r));
+    }
+  return thinned;
+}
+
+namespace {
+
+struct Candidate {
+  double distance;
+  int index;
+  int quadrant;
+};
+
+// Up to n neighbours of (x, y) within the radius, balanced over the four quadrants.
+void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& points, double x,
+                    double y, int n, double radius, std::vector<Candidate>* out) {
+  out->clear();
+  const int c0 = grid.ColOf(x), r0 = grid.RowOf(y);
+  const int max_ring = static_cast<int>(std::ceil(radius / grid.cell_m()));
+  std::vector<Candidate> candidates;
+  for (int ring = 0; ring <= max_ring; ++ring) {
+    for (int r = r0 - ring; r <= r0 + ring; ++r)
+      for (int c = c0 - ring; c <= c0 + ring; ++c) {
+        if (std::max(std::abs(r - r0), std::abs(c - c0)) != ring || !grid.Inside(c, r)) continue;
+        for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
+          const double dx = points[*i].x() - x, dy = points[*i].y() - y;
+          const double d = std::hypot(dx, dy);
+          if (d <= radius) candidates.push_back({d, *i, (dx >= 0) + 2 * (dy >= 0)});
+        }
+      }
+    // Every point within `ring` cells is in; enough of them that close: stop.
+    const double covered = ring * grid.cell_m();
+    const auto close = std::count_if(candidates.begin(), candidates.end(),
+                                     [&](const Candidate& k) { return k.distance <= covered; });
+    if (close >= 4 * n) break;
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
+  int per_quadrant[4] = {0, 0, 0, 0};
+  std::vector<Candidate> rest;
+  for (const Candidate& k : candidates) {
+    if (per_quadrant[k.quadrant] < (n + 3) / 4 && static_cast<int>(out->size()) < n) {
+      out->push_back(k);
+      ++per_quadrant[k.quadrant];
+    } else {
+      rest.push_back(k);
+    }
+  }
+  for (const Candidate& k : rest)  // quadrants short of points: fill from the others
+    if (static_cast<int>(out->size()) < n) out->push_back(k);
+}
+
+}  // namespace
+
+void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel& model,
+               const KrigingOptions& o, Raster* dem, Raster* std_dev) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
+  *std_dev = *dem;
+  std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
+  std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
+  if (points.empty()) return;
+  const GridIndex grid(points, std::max(0.5, o.max_distance_m / 2));
+  cv::parallel_for_(cv::Range(0, dem->rows), [&](const cv::Range& rows) {
+    std::vector<Candidate> near;
+    for (int row = rows.start; row < rows.end; ++row)
+      for (int col = 0; col < dem->cols; ++col) {
+        const double x = dem->CellCentreX(col), y = dem->CellCentreY(row);
+        FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, &near);
+        if (near.empty() || near.front().distance > o.max_distance_m) continue;
+        const int n = static_cast<int>(near.size());
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + 1, n + 1);
+        Eigen::VectorXd b(n + 1);
+        for (int i = 0; i < n; ++i) {
+          const Eigen::Vector3d& p = points[near[i].index];
+          a(i, i) = model.Sill();
+          for (int j = i + 1; j < n; ++j) {
+            const Eigen::Vector3d& q = points[near[j].index];
+            a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));
+          }
+          a(i, n) = a(n, i) = 1.0;
+          b[i] = model.SignalCovariance(near[i].distance);
+        }
+        b[n] = 1.0;
+        const Eigen::VectorXd solution = a.partialPivLu().solve(b);
+        if (!solution.allFinite()) continue;
+        double z = 0.0;
+        for (int i = 0; i < n; ++i) z += solution[i] * points[near[i].index].z();
+        const double variance =
+            std::max(0.0, model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n]);
+        dem->at(row, col) = static_cast<float>(z);
+        std_dev->at(row, col) = static_cast<float>(std::sqrt(variance));
+      }
+  });
+}
+
+KrigingResult KrigeDem(const std::vector<Eigen::Vector3d>& points, const Raster& grid,
+                       const KrigingOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
+  KrigingResult result;
+  const std::vector<Eigen::Vector3d> thinned = ThinPoints(points, o.thin_cell_m);
+  result.points_used = thinned.size();
+  result.experimental = ComputeExperimentalVariogram(thinned, o.variogram);
+  result.model = FitVariogram(result.experimental);
+  result.dem = grid;
+  KrigeOnto(thinned, result.model, o, &result.dem, &result.std);
+  return result;
+}
+
+}  // namespace ts

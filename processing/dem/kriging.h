@@ -1,0 +1,54 @@
+#pragma once
+// Ordinary kriging of ground points onto a raster grid (seed 003: "a DEM is generated using
+// Kriging interpolation"): for every cell centre, the nearest points in each quadrant
+// (a local, balanced neighbourhood) and the ordinary kriging system in covariance form
+//   [C + nugget I  1; 1' 0] [lambda; mu] = [c_0; 1],   z = lambda' z_i,
+//   sigma^2 = C(0) - lambda' c_0 - mu
+// with C the covariance of the noise-free surface (VariogramModel::SignalCovariance). The
+// nugget is the points' own noise: it weighs the data but is not predicted ("filtered"
+// kriging), so the DEM estimates the surface, not another noisy point, and sigma is the
+// standard deviation of that estimate. Without a nugget this is the exact interpolator. Cells
+// farther than max_distance_m from any point are nodata: the DEM says where it was not seen instead
+// of inventing terrain. Dense clouds are thinned first to the mean point of each thin_cell_m square
+// (averaging the matching noise; the variogram and the neighbourhood then see the terrain, not the
+// sampling).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "processing/dem/variogram.h"
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct KrigingOptions {
+  int neighbours = 16;            // at most, a quarter per quadrant where the points allow
+  double search_radius_m = 15.0;  // no neighbour farther than this
+  double max_distance_m = 4.0;    // nodata where the nearest point is farther
+  double thin_cell_m = 0.25;      // 0: no thinning
+  VariogramOptions variogram;
+  bool Check(std::string* why) const;
+};
+
+struct KrigingResult {
+  Raster dem;  // the grid given, filled
+  Raster std;  // kriging standard deviation (m), same grid
+  VariogramModel model;
+  ExperimentalVariogram experimental;
+  size_t points_used = 0;  // after thinning
+};
+
+// Thins the points to one mean point per thin_cell_m square.
+std::vector<Eigen::Vector3d> ThinPoints(const std::vector<Eigen::Vector3d>& points, double cell_m);
+
+// Fits the variogram to the (thinned) points and krige onto `grid` (its geometry is used;
+// its values are overwritten).
+KrigingResult KrigeDem(const std::vector<Eigen::Vector3d>& points, const Raster& grid,
+                       const KrigingOptions& options);
+
+// Kriging with a given model at given points (no thinning); nodata beyond max_distance_m.
+// The two rasters are filled on `grid`'s geometry.
+void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel& model,
+               const KrigingOptions& options, Raster* dem, Raster* std);
+
+}  // namespace ts

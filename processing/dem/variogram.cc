@@ -1,0 +1,148 @@
+#include "processing/dem/variogram.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace ts {
+
+bool VariogramOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(bin_m > 0.0))
+    err = "bin_m must be positive";
+  else if (!(max_lag_m > bin_m))
+    err = "max_lag_m must exceed bin_m";
+  else if (max_points < 3)
+    err = "max_points must be at least 3";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
+                                                   const VariogramOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("VariogramOptions: " + why);
+  std::vector<int> sample(points.size());
+  std::iota(sample.begin(), sample.end(), 0);
+  if (static_cast<int>(sample.size()) > o.max_points) {
+    std::mt19937 rng(o.seed);
+    std::shuffle(sample.begin(), sample.end(), rng);
+    sample.resize(o.max_points);
+  }
+  const int bins = static_cast<int>(std::ceil(o.max_lag_m / o.bin_m));
+  std::vector<double> sum_h(bins, 0.0), sum_sq(bins, 0.0), count(bins, 0.0);
+  for (size_t a = 0; a < sample.size(); ++a)
+    for (size_t b = a + 1; b < sample.size(); ++b) {
+      const Eigen::Vector3d& p = points[sample[a]];
+      const Eigen::Vector3d& q = points[sample[b]];
+      const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
+      if (!(h < o.max_lag_m)) continue;
+      const int bin = static_cast<int>(h / o.bin_m);
+      sum_h[bin] += h;
+      sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
+      count[bin] += 1.0;
+    }
+  ExperimentalVariogram v;
+  for (int i = 0; i < bins; ++i) {
+    if (count[i] < 1.0) continue;
+    v.lag_m.push_back(sum_h[i] / count[i]);
+    v.gamma.push_back(0.5 * sum_sq[i] / count[i]);
+    v.pairs.push_back(count[i]);
+  }
+  return v;
+}
+
+const char* VariogramKindName(VariogramKind kind) {
+  switch (kind) {
+    case VariogramKind::kSpherical:
+      return "spherical";
+    case VariogramKind::kExponential:
+      return "exponential";
+    case VariogramKind::kGaussian:
+      return "gaussian";
+  }
+  return "?";
+}
+
+namespace {
+
+// The correlation structure f(h / range), 0 at 0 and (nearly) 1 at the range.
+double Shape(VariogramKind kind, double h, double range) {
+  const double t = h / range;
+  switch (kind) {
+    case VariogramKind::kSpherical:
+      return t >= 1.0 ? 1.0 : 1.5 * t - 0.5 * t * t * t;
+    case VariogramKind::kExponential:
+      return 1.0 - std::exp(-3.0 * t);
+    case VariogramKind::kGaussian:
+      return 1.0 - std::exp(-3.0 * t * t);
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+double VariogramModel::operator()(double h_m) const {
+  if (h_m <= 0.0) return 0.0;
+  return nugget + partial_sill * Shape(kind, h_m, range_m);
+}
+
+double VariogramModel::SignalCovariance(double h_m) const {
+  return partial_sill * (1.0 - Shape(kind, std::max(h_m, 0.0), range_m));
+}
+
+VariogramModel FitVariogram(const ExperimentalVariogram& e, VariogramKind kind) {
+  VariogramModel best;
+  best.kind = kind;
+  best.fit_error = std::numeric_limits<double>::infinity();
+  const size_t n = e.lag_m.size();
+  if (n == 0) return best;
+  const double max_lag = *std::max_element(e.lag_m.begin(), e.lag_m.end());
+  const double max_gamma = *std::max_element(e.gamma.begin(), e.gamma.end());
+  best.partial_sill = std::max(max_gamma, 1e-12);
+  best.range_m = max_lag;
+  if (n < 3) return best;
+  // Cressie's weights, with gamma floored so flat bins do not dominate.
+  std::vector<double> w(n);
+  for (size_t i = 0; i < n; ++i)
+    w[i] = e.pairs[i] / std::pow(std::max(e.gamma[i], 1e-6 * max_gamma + 1e-12), 2);
+  const double min_range = 0.2 * (e.lag_m.front() > 0 ? e.lag_m.front() : max_lag / n);
+  for (int k = 0; k <= 200; ++k) {
+    const double range = min_range * std::pow(5.0 * max_lag / min_range, k / 200.0);
+    // gamma ~ c0 + c1 f: weighted 2x2 normal equations, then the non-negative cases.
+    double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double f = Shape(kind, e.lag_m[i], range);
+      s00 += w[i], s01 += w[i] * f, s11 += w[i] * f * f;
+      t0 += w[i] * e.gamma[i], t1 += w[i] * f * e.gamma[i];
+    }
+    const double det = s00 * s11 - s01 * s01;
+    double c0 = det > 0 ? (t0 * s11 - t1 * s01) / det : 0.0;
+    double c1 = det > 0 ? (s00 * t1 - s01 * t0) / det : 0.0;
+    if (c0 < 0) c0 = 0, c1 = s11 > 0 ? t1 / s11 : 0.0;
+    if (c1 < 0) c1 = 0, c0 = t0 / s00;
+    double err = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      const double r = e.gamma[i] - (c0 + c1 * Shape(kind, e.lag_m[i], range));
+      err += w[i] * r * r;
+    }
+    if (err < best.fit_error && c1 > 0) {
+      best.nugget = c0, best.partial_sill = c1, best.range_m = range, best.fit_error = err;
+    }
+  }
+  return best;
+}
+
+VariogramModel FitVariogram(const ExperimentalVariogram& e) {
+  VariogramModel best = FitVariogram(e, VariogramKind::kSpherical);
+  for (VariogramKind kind : {VariogramKind::kExponential, VariogramKind::kGaussian}) {
+    const VariogramModel m = FitVariogram(e, kind);
+    if (m.fit_error < best.fit_error) best = m;
+  }
+  return best;
+}
+
+}  // namespace ts

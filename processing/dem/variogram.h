@@ -1,0 +1,54 @@
+#pragma once
+// The semivariogram of ground heights for ordinary kriging: the experimental variogram from
+// pairs of points binned by horizontal distance, and a model fitted to it,
+//   gamma(h) = nugget + partial_sill * f(h / range)
+// with f spherical, exponential (practical range: 95 % of the sill at `range`) or Gaussian
+// (likewise), whichever fits best. For each model the range is searched on a fine grid and,
+// given the range, nugget and partial sill follow from weighted least squares (Cressie's
+// weights: pairs in the bin over gamma squared), both kept non-negative.
+#include <Eigen/Core>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace ts {
+
+struct ExperimentalVariogram {
+  std::vector<double> lag_m;  // mean distance of the pairs in each bin
+  std::vector<double> gamma;  // half the mean squared height difference
+  std::vector<double> pairs;  // pairs in the bin
+};
+
+struct VariogramOptions {
+  double bin_m = 1.0;
+  double max_lag_m = 20.0;
+  int max_points = 2000;  // the variogram is taken from an even random subsample
+  uint32_t seed = 1;
+  bool Check(std::string* why) const;
+};
+
+ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
+                                                   const VariogramOptions& options);
+
+enum class VariogramKind { kSpherical, kExponential, kGaussian };
+const char* VariogramKindName(VariogramKind kind);
+
+struct VariogramModel {
+  VariogramKind kind = VariogramKind::kSpherical;
+  double nugget = 0.0;
+  double partial_sill = 1.0;
+  double range_m = 10.0;
+  double fit_error = 0.0;  // weighted sum of squared misfits of the fit
+  double operator()(double h_m) const;
+  // Covariance of the noise-free surface, partial_sill - (gamma(h) - nugget) for h > 0; the
+  // nugget is the variance of the points' own noise, added on the data's diagonal only.
+  double SignalCovariance(double h_m) const;
+  double Sill() const { return nugget + partial_sill; }
+};
+
+// The best of the three kinds. Needs at least three non-empty bins (else a linear-looking
+// spherical model through the bins is returned with fit_error = infinity).
+VariogramModel FitVariogram(const ExperimentalVariogram& experimental);
+VariogramModel FitVariogram(const ExperimentalVariogram& experimental, VariogramKind kind);
+
+}  // namespace ts
