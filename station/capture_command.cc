@@ -27,19 +27,42 @@ struct CaptureArgs {
 void Run(const CaptureArgs& args) {
   const Result<RigConfig> rig = LoadRigConfig(args.rig_file);
   if (!rig) throw CommandError(rig.error());
-  auto stage = OpenModbusStage(rig->stage);
-  if (!stage) throw CommandError(stage.error());
-  auto left = OpenAravisCamera(rig->left_camera);
-  if (!left) throw CommandError(left.error());
-  auto right = OpenAravisCamera(rig->right_camera);
-  if (!right) throw CommandError(right.error());
   CaptureOptions options;
   options.plan.azimuths = args.azimuths;
   options.initial_exposure_us = args.exposure_us;
   options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
-  const bool tty = ::isatty(STDERR_FILENO) && !args.json;
-  auto progress = [tty](const CaptureEvent& e) {
-    if (!tty) return;
+  const CaptureSummary s =
+      CaptureOrThrow(*rig, args.out, args.resume, options, ::isatty(STDERR_FILENO) && !args.json);
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json{{"station", args.out},
+                                       {"total_pairs", s.total_pairs},
+                                       {"captured_now", s.captured_now},
+                                       {"already_present", s.already_present},
+                                       {"retakes", s.retakes},
+                                       {"frame_retries", s.frame_retries},
+                                       {"resent_packets", s.resent_packets},
+                                       {"exposure_us", s.exposure_us},
+                                       {"seconds", s.seconds}}
+                            .dump()
+                            .c_str());
+  } else {
+    std::printf("%s: %d of %d pairs captured now (%d already there) in %.1f s\n", args.out.c_str(),
+                s.captured_now, s.total_pairs, s.already_present, s.seconds);
+  }
+}
+
+}  // namespace
+
+CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& out, bool resume,
+                              const CaptureOptions& options, bool show_progress) {
+  auto stage = OpenModbusStage(rig.stage);
+  if (!stage) throw CommandError(stage.error());
+  auto left = OpenAravisCamera(rig.left_camera);
+  if (!left) throw CommandError(left.error());
+  auto right = OpenAravisCamera(rig.right_camera);
+  if (!right) throw CommandError(right.error());
+  auto progress = [show_progress](const CaptureEvent& e) {
+    if (!show_progress) return;
     if (e.kind == CaptureEventKind::kStarted) std::fprintf(stderr, "%s\n", e.message.c_str());
     if (e.kind == CaptureEventKind::kPairCaptured)
       std::fprintf(stderr, "\rpair %02d captured (%d pairs in the plan)", e.pair, e.total);
@@ -49,28 +72,11 @@ void Run(const CaptureArgs& args) {
       std::fprintf(stderr, "\npair %02d triggered again: %s\n", e.pair, e.message.c_str());
     if (e.kind == CaptureEventKind::kFinished) std::fprintf(stderr, "\n");
   };
-  const Result<CaptureSummary> s =
-      CaptureStation(**stage, **left, **right, *rig, args.out, args.resume, options, progress);
+  Result<CaptureSummary> s =
+      CaptureStation(**stage, **left, **right, rig, out, resume, options, progress);
   if (!s) throw CommandError(s.error());
-  if (args.json) {
-    std::printf("%s\n", nlohmann::json{{"station", args.out},
-                                       {"total_pairs", s->total_pairs},
-                                       {"captured_now", s->captured_now},
-                                       {"already_present", s->already_present},
-                                       {"retakes", s->retakes},
-                                       {"frame_retries", s->frame_retries},
-                                       {"resent_packets", s->resent_packets},
-                                       {"exposure_us", s->exposure_us},
-                                       {"seconds", s->seconds}}
-                            .dump()
-                            .c_str());
-  } else {
-    std::printf("%s: %d of %d pairs captured now (%d already there) in %.1f s\n", args.out.c_str(),
-                s->captured_now, s->total_pairs, s->already_present, s->seconds);
-  }
+  return *s;
 }
-
-}  // namespace
 
 void AddCaptureCommand(CLI::App& app) {
   auto args = std::make_shared<CaptureArgs>();

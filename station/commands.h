@@ -2,7 +2,13 @@
 // Each `topostation` subcommand registers itself on the CLI11 app. A command reports failure
 // by throwing CommandError with one clear line; main() prints it and exits non-zero.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string>
+
+#include "acquisition/capture.h"
+#include "acquisition/rig_config.h"
+#include "processing/pipeline/process_station.h"
 
 namespace ts {
 
@@ -16,5 +22,15 @@ void AddValidateCommand(CLI::App& app);
 void AddSimCommand(CLI::App& app);
 void AddCaptureCommand(CLI::App& app);
 void AddDevicesCommand(CLI::App& app);
+void AddProcessCommands(CLI::App& app);  // process, evaluate, ground-filter
+void AddSurveyCommand(CLI::App& app);
+
+// Shared by the commands that chain them (survey): each throws CommandError on failure.
+CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& station_dir, bool resume,
+                              const CaptureOptions& options, bool show_progress);
+nlohmann::json ProcessOrThrow(const std::string& station_dir, ProcessOptions options,
+                              bool show_progress);
+// products/evaluation.json of a processed station against a truth directory.
+nlohmann::json EvaluateOrThrow(const std::string& station_dir, const std::string& truth_dir);
 
 }  // namespace ts

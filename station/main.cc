@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "station/commands.h"
+#include "station/private_network.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"topostation: stereo-panorama DEMs and terrain correction for gravity stations"};
@@ -14,6 +15,9 @@ int main(int argc, char** argv) {
   ts::AddSimCommand(app);
   ts::AddCaptureCommand(app);
   ts::AddDevicesCommand(app);
+  ts::AddProcessCommands(app);
+  ts::AddSurveyCommand(app);
+  ts::SetProgramArguments(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -9,6 +9,9 @@
 //  4. a point is ground when it lies within elevation_threshold_m + elevation_scaler x (local
 //     slope of the provisional ground) of it (the slope term allows for steep cells).
 // It needs no ordering or scan geometry, so it serves terrestrial clouds as well as airborne.
+// A tripod's cloud holds only the face of a grove (the ground behind it is hidden): a grove
+// deeper than the largest opening reaches from the ground seen in front stays ground
+// (measured on the simulated forest; see bench_dem and the closing notes).
 #include <Eigen/Core>
 #include <cstdint>
 #include <opencv2/core.hpp>

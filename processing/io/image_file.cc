@@ -20,8 +20,9 @@ Result<PixelFormat> PixelFormatFromName(const std::string& name) {
 }
 
 Result<std::string> WritePngAtomically(const cv::Mat& image, const std::string& path) {
-  if (image.empty() || (image.type() != CV_8UC1 && image.type() != CV_16UC1))
-    return Error{path + ": image must be a non-empty Mono8 or Mono16 matrix"};
+  if (image.empty() ||
+      (image.type() != CV_8UC1 && image.type() != CV_16UC1 && image.type() != CV_8UC3))
+    return Error{path + ": image must be a non-empty Mono8, Mono16 or 8-bit BGR matrix"};
   std::vector<uchar> png;
   // Fast compression: raw images are written during capture, on the critical path.
   if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))

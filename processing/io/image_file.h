@@ -12,7 +12,8 @@ enum class PixelFormat { kMono8, kMono16 };
 const char* PixelFormatName(PixelFormat format);  // "Mono8" / "Mono16" (GenICam names)
 Result<PixelFormat> PixelFormatFromName(const std::string& name);
 
-// Encodes as PNG, writes atomically, returns the SHA-256 of the file's bytes.
+// Encodes as PNG (Mono8, Mono16, or 8-bit BGR for products), writes atomically, returns the SHA-256
+// of the file's bytes.
 Result<std::string> WritePngAtomically(const cv::Mat& image, const std::string& path);
 // Reads a PNG and checks it is single-channel of the given format and size.
 Result<cv::Mat> ReadMonoPng(const std::string& path, PixelFormat format, int width_px,

@@ -1,0 +1,31 @@
+#pragma once
+// How good a DEM is: its coverage around the station, and (with a reference DEM, e.g. the
+// simulator's true bare earth) its height errors over the cells with data.
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "processing/io/raster.h"
+
+namespace ts {
+
+// Share of cells with data among those whose centre is within radius_m of the station
+// (radius_m <= 0: all cells of the raster).
+double DemCoverage(const Raster& dem, const Eigen::Vector2d& station_xy_m, double radius_m);
+
+struct DemEvaluation {
+  double rmse_m = 0.0;
+  double bias_m = 0.0;     // mean of DEM - reference
+  double p95_abs_m = 0.0;  // 95th percentile of |DEM - reference|
+  double max_abs_m = 0.0;
+  double coverage_30m = 0.0;
+  double coverage_square = 0.0;  // the whole DEM raster (the 60 m square)
+  int cells_compared = 0;
+  nlohmann::json ToJson() const;
+};
+
+// Compares every DEM cell with data with the reference interpolated at its centre (same
+// frame). Cells the reference does not cover are left out of the errors.
+DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
+                          const Eigen::Vector2d& station_xy_m);
+
+}  // namespace ts

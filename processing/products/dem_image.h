@@ -1,0 +1,23 @@
+#pragma once
+// dem.png: the DEM as a coloured hillshade for the operator: heights in colour (low blue to
+// high red, nodata grey), shaded by a sun in the north-west at 45 degrees, the station marked,
+// a scale bar and the height range written under it.
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct DemImageOptions {
+  int pixels_per_cell = 8;
+  double sun_azimuth_deg = 315.0;  // clockwise from north
+  double sun_elevation_deg = 45.0;
+  double vertical_exaggeration = 2.0;
+};
+
+// station_xy_m: where to draw the station marker, in the raster's coordinates. BGR, 8 bit.
+cv::Mat RenderDemImage(const Raster& dem, const Eigen::Vector2d& station_xy_m,
+                       const DemImageOptions& options = {});
+
+}  // namespace ts

@@ -1,0 +1,158 @@
+// topostation process STATION | evaluate STATION --truth DIR | ground-filter IN --out OUT:
+// a station's products from its raw pairs, their error against the simulator's truth, and
+// the ground filter for any point cloud.
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "processing/cloud/ground_filter.h"
+#include "processing/dem/dem_evaluation.h"
+#include "processing/io/atomic_file.h"
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/point_cloud_file.h"
+#include "processing/io/raster.h"
+#include "station/commands.h"
+
+namespace ts {
+namespace {
+
+struct ProcessArgs {
+  std::string station;
+  ProcessOptions options;
+  bool json = false;
+};
+
+void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
+  std::printf(
+      "%s: %d points, %d ground, DEM %s (%.0f %% of the cells within 30 m, %.0f %% of "
+      "the square) in %.1f s; products in %s/products\n",
+      station.c_str(), r["counts"]["points"].get<int>(), r["counts"]["ground"].get<int>(),
+      r["variogram"]["model"].get<std::string>().c_str(),
+      100 * r["dem"]["coverage_30m"].get<double>(), 100 * r["dem"]["coverage_square"].get<double>(),
+      r["wall_s"].get<double>(), station.c_str());
+  for (const auto& w : r["warnings"]) std::printf("warning: %s\n", w.get<std::string>().c_str());
+}
+
+struct EvaluateArgs {
+  std::string station;
+  std::string truth;
+  bool json = false;
+};
+
+struct GroundFilterArgs {
+  std::string in;
+  std::string out;
+  GroundFilterOptions options;
+};
+
+void RunGroundFilter(const GroundFilterArgs& args) {
+  Result<std::vector<Eigen::Vector3d>> points = ReadPointCloudXyz(args.in);
+  if (!points) throw CommandError(points.error());
+  std::string why;
+  if (!args.options.Check(&why)) throw CommandError("ground-filter: " + why);
+  const GroundFilterResult r = FilterGround(*points, args.options);
+  std::vector<Eigen::Vector3d> ground;
+  for (size_t i = 0; i < points->size(); ++i)
+    if (r.ground[i]) ground.push_back((*points)[i]);
+  if (Status s = WritePly(args.out, ground); !s) throw CommandError(s.error());
+  std::printf("%s: %zu of %zu points are ground\n", args.out.c_str(), ground.size(),
+              points->size());
+}
+
+}  // namespace
+
+nlohmann::json ProcessOrThrow(const std::string& station, ProcessOptions options,
+                              bool show_progress) {
+  if (show_progress)
+    options.progress = [](const std::string& stage) {
+      std::fprintf(stderr, "\r%-40s", ("processing: " + stage).c_str());
+    };
+  Result<ProcessResult> result = ProcessStation(station, options);
+  if (show_progress) std::fprintf(stderr, "\r%-40s\r", "");
+  if (!result) throw CommandError(result.error());
+  return result->report;
+}
+
+nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& truth_dir) {
+  const Result<Raster> dem = ReadGeoTiff(station + "/products/dem.tif");
+  if (!dem) throw CommandError(dem.error() + " (run `topostation process` first)");
+  if (!dem->crs_wkt.empty())
+    throw CommandError(station +
+                       "/products/dem.tif: georeferenced; the truth is in the station "
+                       "frame (process without --gcps to evaluate)");
+  const Result<Raster> truth = ReadGeoTiff(truth_dir + "/dem.tif");
+  if (!truth) throw CommandError(truth.error());
+  const Result<Calibration> calibration = LoadCalibrationYaml(truth_dir + "/calibration.yaml");
+  if (!calibration) throw CommandError(calibration.error());
+  const Eigen::Vector2d station_xy = calibration->stage.StationMarkInL().head<2>();
+  const DemEvaluation e = EvaluateDem(*dem, *truth, station_xy);
+  if (e.cells_compared == 0)
+    throw CommandError(station + "/products/dem.tif: no cell overlaps the truth DEM " + truth_dir +
+                       "/dem.tif");
+  nlohmann::json j = e.ToJson();
+  j["truth"] = truth_dir;
+  if (Status s = WriteFileAtomically(station + "/products/evaluation.json", j.dump(2) + "\n"); !s)
+    throw CommandError(s.error());
+  return j;
+}
+
+void AddProcessCommands(CLI::App& app) {
+  auto process = std::make_shared<ProcessArgs>();
+  CLI::App* p = app.add_subcommand("process", "Turn a captured station into its DEM and products");
+  p->add_option("station", process->station, "station directory")->required();
+  p->add_option("--calibration", process->options.calibration_file,
+                "calibration YAML (default: the one recorded in station.json)");
+  p->add_option("--gcps", process->options.gcp_file,
+                "ground control points (YAML with crs and points): DEM in that CRS");
+  p->add_option("--half-size-m", process->options.dem_half_size_m,
+                "the DEM square's half side (default 30)");
+  p->add_option("--max-distance-m", process->options.kriging.max_distance_m,
+                "nodata where the nearest ground point is farther (default 4)");
+  p->add_flag("--json", process->json, "print the report as JSON");
+  p->callback([process] {
+    const nlohmann::json r = ProcessOrThrow(process->station, process->options,
+                                            ::isatty(STDERR_FILENO) && !process->json);
+    if (process->json)
+      std::printf("%s\n", r.dump().c_str());
+    else
+      PrintProcessSummary(process->station, r);
+  });
+
+  auto evaluate = std::make_shared<EvaluateArgs>();
+  CLI::App* e = app.add_subcommand(
+      "evaluate",
+      "DEM error of a processed station against ground truth (products/evaluation.json)");
+  e->add_option("station", evaluate->station, "processed station directory")->required();
+  e->add_option("--truth", evaluate->truth, "truth directory of the simulator")->required();
+  e->add_flag("--json", evaluate->json, "print the evaluation as JSON");
+  e->callback([evaluate] {
+    const nlohmann::json j = EvaluateOrThrow(evaluate->station, evaluate->truth);
+    if (evaluate->json) {
+      std::printf("%s\n", j.dump().c_str());
+    } else {
+      std::printf(
+          "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage "
+          "%.1f %% within 30 m, %.1f %% of the 60 m square\n",
+          j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
+          j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
+          100 * j["coverage_60m_square"].get<double>());
+    }
+  });
+
+  auto ground = std::make_shared<GroundFilterArgs>();
+  CLI::App* g = app.add_subcommand(
+      "ground-filter",
+      "Keep the bare-earth points of a cloud (.pcd or .ply), coordinates unchanged");
+  g->add_option("in", ground->in, "input cloud (.pcd or .ply)")->required();
+  g->add_option("--out", ground->out, "output PLY of the ground points")->required();
+  g->add_option("--cell-m", ground->options.cell_m, "grid cell (default 1)");
+  g->add_option("--slope", ground->options.slope, "steepest terrain slope kept (default 0.15)");
+  g->add_option("--window-m", ground->options.max_window_m,
+                "largest opening radius, wider than any object (default 18)");
+  g->add_option("--threshold-m", ground->options.elevation_threshold_m,
+                "height above the ground surface still ground (default 0.5)");
+  g->callback([ground] { RunGroundFilter(*ground); });
+}
+
+}  // namespace ts

@@ -1,0 +1,123 @@
+// topostation survey --sim [--scene NAME | --dem FILE] --out STATION [--truth DIR]: the main
+// job end to end on the simulated station. Serves the simulated cameras and stage on loopback
+// (in a private network namespace it makes itself), captures the panorama over the real
+// drivers (Aravis, libmodbus), processes it into the products and, since the truth is known,
+// evaluates the DEM against it.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "sim/sim_server.h"
+#include "sim/sim_station.h"
+#include "sim/truth.h"
+#include "station/commands.h"
+#include "station/private_network.h"
+
+namespace ts {
+namespace {
+
+struct SurveyArgs {
+  bool sim = false;
+  sim::SimStationOptions station;
+  std::string out;
+  std::string truth;
+  bool nominal_calibration = false;
+  double exposure_us = 4000.0;
+  bool json = false;
+};
+
+void RunSurvey(const SurveyArgs& args) {
+  if (!args.sim)
+    throw CommandError(
+        "survey: only --sim is available (a real rig: `capture --rig` then "
+        "`process`)");
+  if (std::filesystem::exists(args.out + "/station.json"))
+    throw CommandError(args.out +
+                       ": already a station (choose a new --out, or `capture "
+                       "--resume` and `process` it)");
+  EnsurePrivateStationNetwork();  // may re-execute this command in a namespace of its own
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool tty = ::isatty(STDERR_FILENO) && !args.json;
+  const std::string truth_dir = args.truth.empty() ? args.out + "-truth" : args.truth;
+
+  auto station = sim::BuildSimStation(args.station);
+  if (!station) throw CommandError(station.error());
+  if (Status s = sim::WriteTruthDirectory((*station)->scene, (*station)->rig, truth_dir); !s)
+    throw CommandError(s.error());
+  sim::SimServeOptions serve;
+  auto server = sim::SimServer::Start(*station, serve);
+  if (!server) throw CommandError(server.error());
+
+  RigConfig rig;
+  rig.name = "simulated-rig";
+  rig.file = "(survey --sim)";
+  rig.calibration = (*station)->rig.nominal;  // what a rig knows before calibration
+  rig.left_camera.id = serve.left_serial;
+  rig.right_camera.id = serve.right_serial;
+  rig.stage.host = serve.stage_address;
+  rig.stage.port = serve.stage_port;
+  CaptureOptions capture;
+  capture.initial_exposure_us = args.exposure_us;
+  const CaptureSummary captured = CaptureOrThrow(rig, args.out, false, capture, tty);
+  server->reset();
+
+  ProcessOptions process;
+  // Until the calibration commands exist, the simulator's true calibration stands in for a
+  // field calibration (issue 6); --nominal-calibration shows what the design values give.
+  if (!args.nominal_calibration) process.calibration_file = truth_dir + "/calibration.yaml";
+  const nlohmann::json report = ProcessOrThrow(args.out, process, tty);
+  const nlohmann::json evaluation = EvaluateOrThrow(args.out, truth_dir);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json{{"station", args.out},
+                                       {"truth", truth_dir},
+                                       {"capture_s", captured.seconds},
+                                       {"process_s", report["wall_s"]},
+                                       {"survey_s", seconds},
+                                       {"evaluation", evaluation}}
+                            .dump()
+                            .c_str());
+    return;
+  }
+  std::printf("survey of scene '%s' done in %.0f s (capture %.0f s, processing %.1f s)\n",
+              (*station)->scene.name.c_str(), seconds, captured.seconds,
+              report["wall_s"].get<double>());
+  std::printf(
+      "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
+      "report.json); truth: %s\n",
+      args.out.c_str(), truth_dir.c_str());
+  std::printf(
+      "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage %.1f %% "
+      "within 30 m, %.1f %% of the 60 m square\n",
+      evaluation["dem_rmse_m"].get<double>(), evaluation["dem_bias_m"].get<double>(),
+      evaluation["dem_p95_abs_m"].get<double>(), 100 * evaluation["coverage_30m"].get<double>(),
+      100 * evaluation["coverage_60m_square"].get<double>());
+  for (const auto& w : report["warnings"])
+    std::printf("warning: %s\n", w.get<std::string>().c_str());
+}
+
+}  // namespace
+
+void AddSurveyCommand(CLI::App& app) {
+  auto args = std::make_shared<SurveyArgs>();
+  CLI::App* s = app.add_subcommand(
+      "survey", "Capture and process a station end to end (--sim: on the simulated station)");
+  s->add_flag("--sim", args->sim, "survey the simulated station");
+  s->add_option("--scene", args->station.scene,
+                "built-in scene: flat, hills, slope, rough, forest (default hills)");
+  s->add_option("--dem", args->station.dem_file, "GeoTIFF DEM as terrain instead of a scene");
+  s->add_option("--seed", args->station.seed, "scene and rig seed (default 1)");
+  s->add_option("--out", args->out, "station directory to create")->required();
+  s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
+  s->add_option("--exposure-us", args->exposure_us, "starting exposure (default 4000)");
+  s->add_flag("--nominal-calibration", args->nominal_calibration,
+              "process with the rig's design values instead of the simulator's true calibration");
+  s->add_flag("--json", args->json, "print the summary as JSON");
+  s->callback([args] { RunSurvey(*args); });
+}
+
+}  // namespace ts

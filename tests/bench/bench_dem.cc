@@ -1,0 +1,149 @@
+// From points to DEM (issue 6), in one table:
+//  - each scene (flat, hills, slope, forest): a station rendered by the simulator (12 full-
+//    resolution pairs, as `sim render` writes them) is processed by the real `topostation
+//    process` command with the true calibration: its wall time and peak memory (from its
+//    report.json), the DEM's RMSE over cells with data in the 60 m square against the true
+//    bare earth, its coverage, and kriging against nearest-neighbour interpolation of the same
+//    ground points; on forest also the share of object points (> 0.5 m above the true
+//    ground) that the ground filter removed;
+//  - the ISPRS filter-test samples: mean total error of our ground filter and, beside it,
+//    PCL's progressive morphological filter with the PCL tutorial settings.
+#include <pcl/filters/extract_indices.h>
+#include <pcl/point_types.h>
+#include <pcl/segmentation/progressive_morphological_filter.h>
+
+#include <filesystem>
+
+#include "processing/cloud/ground_filter.h"
+#include "processing/dem/dem_evaluation.h"
+#include "processing/pipeline/process_station.h"
+#include "sim/sim_station.h"
+#include "tests/bench/bench_table.h"
+#include "tests/common/isprs_sample.h"
+#include "tests/common/temp_dir.h"
+
+namespace {
+
+using namespace ts;
+
+struct SceneTargets {
+  const char* scene;
+  double max_rmse_m;
+};
+
+void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
+  testing::TempDir dir;
+  const std::string station_dir = dir / "station", truth_dir = dir / "truth";
+  sim::SimStationOptions options;
+  options.scene = t.scene;
+  const auto station = *sim::BuildSimStation(options);
+  if (Status s = sim::RenderStationDirectory(*station, sim::StationRenderOptions{}, station_dir,
+                                             truth_dir);
+      !s) {
+    std::fprintf(stderr, "%s\n", s.error().c_str());
+    std::exit(1);
+  }
+  // The real command, for its wall time and peak memory.
+  const std::string command = std::string(TS_TOPOSTATION_EXE) + " process " + station_dir +
+                              " --calibration " + truth_dir + "/calibration.yaml --json > " +
+                              (dir / "report.json");
+  if (std::system(command.c_str()) != 0) std::exit(1);
+  const nlohmann::json report =
+      nlohmann::json::parse(std::ifstream(station_dir + "/products/report.json"));
+
+  // The same processing in this process, to look at its points.
+  ProcessOptions process;
+  process.calibration_file = truth_dir + "/calibration.yaml";
+  const ProcessResult r = ProcessStation(station_dir, process).value();
+  const Raster truth = ReadGeoTiff(truth_dir + "/dem.tif").value();
+  const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();
+  const DemEvaluation e = EvaluateDem(r.dem, truth, mark);
+
+  // Nearest neighbour (kriging with one neighbour) on the same thinned ground points.
+  std::vector<Eigen::Vector3d> ground;
+  for (size_t i = 0; i < r.cloud.size(); ++i)
+    if (r.point_class[i] == kGround) ground.push_back(r.cloud[i].position_m);
+  KrigingOptions nearest_options = process.kriging;
+  nearest_options.neighbours = 1;
+  Raster nearest = r.dem, unused;
+  KrigeOnto(ThinPoints(ground, process.kriging.thin_cell_m), VariogramModel{}, nearest_options,
+            &nearest, &unused);
+  const DemEvaluation n = EvaluateDem(nearest, truth, mark);
+
+  const std::string s = std::string(t.scene) + ": ";
+  char target[32];
+  std::snprintf(target, sizeof target, "<= %.2f", t.max_rmse_m);
+  table->Add({s + "DEM RMSE (kriging)", e.rmse_m, "m", target, e.rmse_m <= t.max_rmse_m});
+  table->Add({s + "DEM RMSE (nearest neighbour)", n.rmse_m, "m", ""});
+  table->Add({s + "DEM bias", e.bias_m, "m", ""});
+  table->Add({s + "DEM p95 |error|", e.p95_abs_m, "m", ""});
+  table->Add({s + "coverage within 30 m", e.coverage_30m, "", ">= 0.95", e.coverage_30m >= 0.95});
+  table->Add({s + "coverage of the 60 m square", e.coverage_square, "", ">= 0.85",
+              e.coverage_square >= 0.85});
+  const double wall = report["wall_s"].get<double>();
+  table->Add({s + "process (raw images to products)", wall, "s", "<= 3.5", wall <= 3.5});
+  table->Add({s + "process peak memory", report["peak_memory_mib"].get<double>(), "MiB", ""});
+  if (std::string(t.scene) == "forest") {
+    double objects = 0, removed = 0;
+    for (size_t i = 0; i < r.cloud.size(); ++i) {
+      if (r.point_class[i] == kOutsideDem) continue;
+      const Eigen::Vector3d& p = r.cloud[i].position_m;
+      if (p.z() - station->scene.TerrainHeight(p.x(), p.y()) <= 0.5) continue;
+      ++objects;
+      removed += r.point_class[i] != kGround;
+    }
+    table->Add({s + "object points (> 0.5 m) in the square", objects, "", ""});
+    table->Add({s + "share of object points removed", removed / objects, "", ">= 0.98",
+                removed / objects >= 0.98});
+  }
+}
+
+std::vector<uint8_t> PclMorphologicalFilter(const std::vector<Eigen::Vector3d>& points) {
+  // PCL's tutorial settings; coordinates about their mean (float precision).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p / points.size();
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& p : points) {
+    const Eigen::Vector3d q = p - mean;
+    cloud->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
+  }
+  pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> pmf;
+  pmf.setInputCloud(cloud);
+  pmf.setMaxWindowSize(20);
+  pmf.setSlope(1.0f);
+  pmf.setInitialDistance(0.5f);
+  pmf.setMaxDistance(3.0f);
+  pcl::Indices ground;
+  pmf.extract(ground);
+  std::vector<uint8_t> flags(points.size(), 0);
+  for (int i : ground) flags[i] = 1;
+  return flags;
+}
+
+void IsprsSamples(bench::Table* table) {
+  double ours = 0, pcl = 0;
+  for (const std::string& name : testing::kIsprsSamples) {
+    const testing::IsprsSample s = testing::LoadIsprsSample(name);
+    const testing::FilterErrors a =
+        testing::ClassificationErrors(s.reference_ground, FilterGround(s.points, {}).ground);
+    const testing::FilterErrors b =
+        testing::ClassificationErrors(s.reference_ground, PclMorphologicalFilter(s.points));
+    table->Add({"ISPRS " + name + ": total error, ours", a.total, "", ""});
+    table->Add({"ISPRS " + name + ": total error, PCL PMF", b.total, "", ""});
+    ours += a.total / testing::kIsprsSamples.size();
+    pcl += b.total / testing::kIsprsSamples.size();
+  }
+  table->Add({"ISPRS mean total error, ours", ours, "", "<= 0.06", ours <= 0.06});
+  table->Add({"ISPRS mean total error, PCL PMF (tutorial)", pcl, "", ""});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bench::Table table("points to DEM: simulated surveys and the ISPRS filter test");
+  IsprsSamples(&table);
+  for (const SceneTargets& t : {SceneTargets{"flat", 0.10}, SceneTargets{"hills", 0.20},
+                                SceneTargets{"slope", 0.35}, SceneTargets{"forest", 0.35}})
+    SimulatedSurvey(t, &table);
+  return table.Finish(argc, argv);
+}

@@ -1,0 +1,122 @@
+// `process`, `evaluate`, `ground-filter` and `survey --sim` through the real command line.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "processing/io/point_cloud_file.h"
+#include "processing/io/raster.h"
+#include "tests/common/isprs_sample.h"
+#include "tests/common/station_fixture.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+using testing::RunCommand;
+
+std::string Exe() { return TS_TOPOSTATION_EXE; }
+
+// The whole main job on the simulated flat scene: capture over the real drivers in a private
+// network namespace the command makes itself, process with the true calibration, evaluate.
+void SurveyFlat(const std::string& dir, const std::string& as_user) {
+  const auto r =
+      RunCommand(as_user + Exe() + " survey --sim --scene flat --out " + dir + "/st --json 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  EXPECT_LT(j["evaluation"]["dem_rmse_m"].get<double>(), 0.05);
+  EXPECT_GE(j["evaluation"]["coverage_30m"].get<double>(), 0.95);
+  EXPECT_GE(j["evaluation"]["coverage_60m_square"].get<double>(), 0.85);
+  for (const char* product : {"dem.tif", "dem_std.tif", "dem.png", "points.ply", "panorama.png",
+                              "report.json", "evaluation.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/st/products/" + product)) << product;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/st-truth/dem.tif"));
+  const Result<Raster> dem = ReadGeoTiff(dir + "/st/products/dem.tif");
+  ASSERT_TRUE(dem) << dem.error();
+  EXPECT_EQ(dem->cols, 60);
+  EXPECT_EQ(dem->rows, 60);
+  // evaluate again from the command, reading what survey wrote.
+  const auto e = RunCommand(Exe() + " evaluate " + dir + "/st --truth " + dir + "/st-truth --json");
+  ASSERT_EQ(e.exit_code, 0);
+  EXPECT_NEAR(nlohmann::json::parse(e.out)["dem_rmse_m"].get<double>(),
+              j["evaluation"]["dem_rmse_m"].get<double>(), 1e-9);
+}
+
+TEST(SurveySim, FlatSceneEndToEnd) {
+  testing::TempDir dir;
+  SurveyFlat(dir.path().string(), "");
+}
+
+// A normal user gets the same, with no set-up step (a user + network namespace).
+TEST(SurveySim, FlatSceneAsANormalUser) {
+  if (::geteuid() != 0) {  // we are a normal user already: the test above is this test
+    SUCCEED();
+    return;
+  }
+  testing::TempDir dir;
+  std::filesystem::permissions(dir.path(), std::filesystem::perms::all);
+  SurveyFlat(dir.path().string(), "setpriv --reuid=65534 --regid=65534 --clear-groups ");
+}
+
+TEST(SurveySim, RefusesAnExistingStationAndRealRigs) {
+  testing::TempDir dir;
+  testing::MakeStation(dir / "S", 2, 2);
+  auto r = RunCommand(Exe() + " survey --sim --out " + (dir / "S") + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.out.find("already a station"), std::string::npos) << r.out;
+  r = RunCommand(Exe() + " survey --out " + (dir / "T") + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.out.find("only --sim"), std::string::npos) << r.out;
+}
+
+TEST(ProcessCommand, BadInputGivesOneClearError) {
+  testing::TempDir dir;
+  const std::string s = dir / "S";
+  testing::MakeStation(s, 2, 2);
+  auto error_of = [](const std::string& args) {
+    const auto r = RunCommand(Exe() + " process " + args + " 2>&1");
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    return r.out;
+  };
+  EXPECT_NE(error_of(s + " --calibration " + (dir / "none.yaml")).find("none.yaml"),
+            std::string::npos);
+  std::ofstream(dir / "gcps.yaml") << "crs: EPSG:32633\npoints: []\n";
+  EXPECT_NE(error_of(s + " --gcps " + (dir / "gcps.yaml")).find("gcps.yaml: points"),
+            std::string::npos);
+  EXPECT_NE(error_of(dir / "nowhere").find("nowhere"), std::string::npos);
+  std::ofstream(s + "/raw/pair_01_right.png", std::ios::app) << "garbage";
+  EXPECT_NE(error_of(s).find("pair_01_right.png"), std::string::npos);
+}
+
+TEST(EvaluateCommand, NeedsProductsAndTruth) {
+  testing::TempDir dir;
+  testing::MakeStation(dir / "S", 2, 2);
+  const auto r =
+      RunCommand(Exe() + " evaluate " + (dir / "S") + " --truth " + (dir / "T") + " 2>&1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("products/dem.tif"), std::string::npos) << r.out;
+}
+
+TEST(GroundFilterCommand, WritesTheGroundPointsUnchanged) {
+  testing::TempDir dir;
+  const std::string in = testing::IsprsPath("samp21");
+  const auto r = RunCommand(Exe() + " ground-filter " + in + " --out " + (dir / "g.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto all = ReadPointCloudXyz(in).value();
+  const auto ground = ReadPointCloudXyz(dir / "g.ply").value();
+  ASSERT_GT(ground.size(), all.size() / 2);
+  ASSERT_LT(ground.size(), all.size());
+  // Every written point is one of the input's, bit for bit.
+  std::set<std::tuple<double, double, double>> input;
+  for (const auto& p : all) input.emplace(p.x(), p.y(), p.z());
+  for (const auto& p : ground) ASSERT_TRUE(input.count({p.x(), p.y(), p.z()}));
+  const auto bad = RunCommand(Exe() + " ground-filter " + (dir / "none.pcd") + " --out " +
+                              (dir / "x.ply") + " 2>&1");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.out.find("none.pcd"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
