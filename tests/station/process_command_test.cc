@@ -20,9 +20,10 @@ std::string Exe() { return TS_TOPOSTATION_EXE; }
 
 // The whole main job on the simulated flat scene: capture over the real drivers in a private
 // network namespace the command makes itself, process with the true calibration, evaluate.
-void SurveyFlat(const std::string& dir, const std::string& as_user) {
+void SurveyFlat(const std::string& dir, const std::string& as_user,
+                const std::string& exe = Exe()) {
   const auto r =
-      RunCommand(as_user + Exe() + " survey --sim --scene flat --out " + dir + "/st --json 2>&1");
+      RunCommand(as_user + exe + " survey --sim --scene flat --out " + dir + "/st --json 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   EXPECT_LT(j["evaluation"]["dem_rmse_m"].get<double>(), 0.05);
@@ -56,7 +57,10 @@ TEST(SurveySim, FlatSceneAsANormalUser) {
   }
   testing::TempDir dir;
   std::filesystem::permissions(dir.path(), std::filesystem::perms::all);
-  SurveyFlat(dir.path().string(), "setpriv --reuid=65534 --regid=65534 --clear-groups ");
+  // A copy the user can run wherever the build tree lives (it links only system libraries).
+  std::filesystem::copy_file(Exe(), dir / "topostation");
+  SurveyFlat(dir.path().string(), "setpriv --reuid=65534 --regid=65534 --clear-groups ",
+             dir / "topostation");
 }
 
 TEST(SurveySim, RefusesAnExistingStationAndRealRigs) {
