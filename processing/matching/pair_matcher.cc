@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace ts {
 
@@ -26,6 +27,8 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "max_consistency_px must not be negative";
   } else if (!(sigma_scale > 0.0)) {
     err = "sigma_scale must be positive";
+  } else if (!(min_spacing_m >= 0.0)) {
+    err = "min_spacing_m must not be negative";
   }
   if (err.empty()) return true;
   if (why) *why = err;
@@ -59,6 +62,41 @@ std::vector<cv::Point> Points(const cv::Mat& enhanced_left, const PairMatchOptio
   });
   return points;
 }
+
+// Object-space spacing of the matches on the ground: a point is tried only if no match was
+// made in its cell. Across the image the cell is the spacing in pixels, s f / Z = s d / B;
+// down the image the ground is foreshortened by about the camera height over the range, so
+// rows are kept closer (a rig ~1.5 m above the ground is assumed: the factor only sets how
+// much redundancy is dropped). Cell sides are powers of two; a point that fails leaves its
+// cell free for the next one.
+class SpacingFilter {
+ public:
+  SpacingFilter(double min_spacing_m, double baseline_m, double focal_px)
+      : across_(min_spacing_m / baseline_m),
+        down_(across_ * kCameraHeightM / (focal_px * baseline_m)) {}
+  bool Free(int u, int v, int disparity) const {
+    const int64_t key = Key(u, v, disparity);
+    return key < 0 || taken_.count(key) == 0;
+  }
+  void Take(int u, int v, int disparity) {
+    const int64_t key = Key(u, v, disparity);
+    if (key >= 0) taken_.insert(key);
+  }
+
+ private:
+  static constexpr double kCameraHeightM = 1.5;
+  static int Level(double px) {
+    return px < 2.0 ? 0 : std::min(10, static_cast<int>(std::log2(px)));
+  }
+  int64_t Key(int u, int v, int disparity) const {
+    const int lu = Level(across_ * disparity), lv = Level(down_ * disparity * disparity);
+    if (lu == 0 && lv == 0) return -1;  // every point
+    return (static_cast<int64_t>(lu * 16 + lv) << 48) | (static_cast<int64_t>(v >> lv) << 24) |
+           (u >> lu);
+  }
+  double across_, down_;
+  std::unordered_set<int64_t> taken_;
+};
 
 // Full-resolution integer disparity at (u, v) around the map's approximation.
 int RefineFromMap(const DisparityMap& map, const cv::Mat& from, const cv::Mat& to, int u, int v,
@@ -117,7 +155,15 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   const int h = o.ncc_half_window_px;
   std::vector<StereoMatch> matches;
   matches.reserve(points.size() / 2);
+  SpacingFilter spacing(o.min_spacing_m, r.baseline_m, r.focal_px);
   for (const cv::Point& p : points) {
+    int approx = 0;  // the pyramid's disparity, for the spacing
+    if (o.min_spacing_m > 0.0) {
+      const int mu = p.x >> left_map.level, mv = p.y >> left_map.level;
+      if (mu >= left_map.disparity.cols || mv >= left_map.disparity.rows) continue;
+      approx = left_map.disparity.at<int16_t>(mv, mu) << left_map.level;
+      if (approx < 0 || !spacing.Free(p.x, p.y, approx)) continue;
+    }
     double ncc = 0.0;
     const int d = RefineFromMap(left_map, left, right, p.x, p.y, d_min, d_max, h, +1, &ncc);
     if (d < 0 || ncc < o.min_ncc) continue;
@@ -134,6 +180,7 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     if (back < 0 || back_ncc < o.min_ncc || std::abs(back - disparity) > o.max_consistency_px + 0.5)
       continue;
     ++s.consistent;
+    if (o.min_spacing_m > 0.0) spacing.Take(p.x, p.y, approx);
     matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,
                        o.sigma_scale * lsm.sigma_x_px, lsm.correlation});
   }

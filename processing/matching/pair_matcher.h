@@ -33,6 +33,10 @@ struct PairMatchOptions {
     return o;
   }();
   int dense_step_px = 0;  // 0: Förstner points; n > 0: every n-th pixel of every n-th row
+  // > 0: points closer together on the object than this (from the pyramid's depth) are
+  // skipped, the first in image order kept. Near the tripod Förstner's image-space grid puts
+  // hundreds of points on a square metre; a 1 m DEM needs a few dozen (`process` sets 0.1).
+  double min_spacing_m = 0.0;
   PyramidNccOptions pyramid;
   int dense_finest_level = 1;  // pyramid maps down to this level; below it NCC per point
   int ncc_half_window_px = 3;  // full-resolution NCC around the approximation

@@ -65,6 +65,21 @@ TEST(PairMatching, DisparitiesAgreeWithTheTrueSurface) {
   EXPECT_LT(median, 0.095);
   EXPECT_LT(p95, 0.40);
   EXPECT_LT(bad, 0.006);
+
+  // With an object-space spacing (what `process` asks for) the redundant near-tripod matches
+  // go and the far ones, which are few already, stay.
+  PairMatchOptions spaced;
+  spaced.min_spacing_m = 0.1;
+  const std::vector<StereoMatch> thinned = MatchRectifiedPair(r, left_rect, right_rect, spaced);
+  auto count = [&](const std::vector<StereoMatch>& ms, double min_m, double max_m) {
+    return std::count_if(ms.begin(), ms.end(), [&](const StereoMatch& m) {
+      const double depth = r.focal_px * r.baseline_m / m.disparity_px;
+      return depth >= min_m && depth < max_m;
+    });
+  };
+  EXPECT_LT(3 * count(thinned, 0.0, 5.0), count(matches, 0.0, 5.0));
+  EXPECT_GT(count(thinned, 20.0, 1e9), 0.8 * count(matches, 20.0, 1e9));
+  EXPECT_GT(count(thinned, 20.0, 1e9), 1000);
 }
 
 // Two pairs of a flat station through MatchStation: every point lands in L on the terrain
