@@ -24,8 +24,11 @@ namespace ts {
 struct KrigingOptions {
   int neighbours = 16;            // at most, a quarter per quadrant where the points allow
   double search_radius_m = 15.0;  // no neighbour farther than this
-  double max_distance_m = 4.0;    // nodata where the nearest point is farther
-  double thin_cell_m = 0.25;      // 0: no thinning
+  // Nodata where the nearest point is farther. Measured on the simulated hills (holes behind
+  // brows): 4 / 5 / 6 m give RMSE 0.143 / 0.169 / 0.193 m at coverage within 30 m of
+  // 92.6 / 95.1 / 96.2 %; the kriging std of each cell says how far it reached.
+  double max_distance_m = 5.0;
+  double thin_cell_m = 0.25;  // 0: no thinning
   VariogramOptions variogram;
   bool Check(std::string* why) const;
 };

@@ -8,24 +8,59 @@ namespace ts {
 
 namespace {
 
+// Projection of the rectified pixel (u, v) into the camera; false where it does not exist.
+bool Source(const CameraModel& camera, const Eigen::Matrix3d& camera_from_rect,
+            const Rectification& r, double u, double v, Eigen::Vector2d* pixel) {
+  const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(), r.focal_px);
+  return camera.Project(camera_from_rect * ray, pixel);
+}
+
+// The maps are exact at every kStep-th pixel and bilinear between: the lens distortion is
+// smooth, so the interpolation is far below a thousandth of a pixel (tested), at 1/64 of the
+// cost of projecting (Newton on the distortion) every pixel. Blocks with a corner that does
+// not project are computed pixel by pixel.
 void BuildMaps(const CameraModel& camera, const Eigen::Matrix3d& camera_from_rect,
                const Rectification& r, cv::Mat* map_x, cv::Mat* map_y) {
+  constexpr int kStep = 8;
+  const int nodes_x = (r.width_px - 1 + kStep - 1) / kStep + 1;
+  const int nodes_y = (r.height_px - 1 + kStep - 1) / kStep + 1;
+  cv::Mat node_x(nodes_y, nodes_x, CV_64FC1), node_y(nodes_y, nodes_x, CV_64FC1);
+  cv::Mat valid(nodes_y, nodes_x, CV_8UC1);
+  for (int j = 0; j < nodes_y; ++j)
+    for (int i = 0; i < nodes_x; ++i) {
+      Eigen::Vector2d pixel;
+      valid.at<uint8_t>(j, i) = Source(camera, camera_from_rect, r, i * kStep, j * kStep, &pixel);
+      node_x.at<double>(j, i) = pixel.x();
+      node_y.at<double>(j, i) = pixel.y();
+    }
   map_x->create(r.height_px, r.width_px, CV_32FC1);
   map_y->create(r.height_px, r.width_px, CV_32FC1);
   cv::parallel_for_(cv::Range(0, r.height_px), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       float* mx = map_x->ptr<float>(v);
       float* my = map_y->ptr<float>(v);
+      const int j = v / kStep;
+      const double ty = static_cast<double>(v - j * kStep) / kStep;
       for (int u = 0; u < r.width_px; ++u) {
-        const Eigen::Vector3d ray(u - r.principal_point_px.x(), v - r.principal_point_px.y(),
-                                  r.focal_px);
+        const int i = u / kStep;
+        const double tx = static_cast<double>(u - i * kStep) / kStep;
+        const bool corners = valid.at<uint8_t>(j, i) && valid.at<uint8_t>(j, i + 1) &&
+                             valid.at<uint8_t>(j + 1, i) && valid.at<uint8_t>(j + 1, i + 1);
         Eigen::Vector2d pixel;
-        if (camera.Project(camera_from_rect * ray, &pixel)) {
-          mx[u] = static_cast<float>(pixel.x());
-          my[u] = static_cast<float>(pixel.y());
-        } else {
-          mx[u] = my[u] = -1.0f;  // outside: remap's border value
+        if (corners) {
+          auto lerp = [&](const cv::Mat& n) {
+            const double top =
+                n.at<double>(j, i) + tx * (n.at<double>(j, i + 1) - n.at<double>(j, i));
+            const double bottom =
+                n.at<double>(j + 1, i) + tx * (n.at<double>(j + 1, i + 1) - n.at<double>(j + 1, i));
+            return top + ty * (bottom - top);
+          };
+          pixel = {lerp(node_x), lerp(node_y)};
+        } else if (!Source(camera, camera_from_rect, r, u, v, &pixel)) {
+          pixel = {-1.0, -1.0};  // outside: remap's border value
         }
+        mx[u] = static_cast<float>(pixel.x());
+        my[u] = static_cast<float>(pixel.y());
       }
     }
   });
