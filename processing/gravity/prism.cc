@@ -9,8 +9,12 @@ namespace {
 // logarithm: for a prism much wider than deep the two are huge and nearly equal. dr = r2 - r1.
 double LogDifference(double a, double b2, double z1, double z2, double r1, double dr) {
   if (a >= 0.0) return std::log1p(dr / (a + r1));
-  // a < 0: ln(a + r) = ln((b2 + z^2) / (r - a)), free of cancellation.
-  return std::log1p((z2 * z2 - z1 * z1) / (b2 + z1 * z1)) - std::log1p(dr / (r1 - a));
+  // a < 0: ln(a + r) = ln((b2 + z^2) / (r - a)), free of cancellation. The ratio of the
+  // b2 + z^2 terms by log1p where it is near 1, directly where it is not (b2 << z^2: near
+  // the edge through the point, where log1p's argument would round to -1).
+  const double q = (z2 * z2 - z1 * z1) / (b2 + z1 * z1);
+  const double ratio_log = q > -0.5 ? std::log1p(q) : std::log((b2 + z2 * z2) / (b2 + z1 * z1));
+  return ratio_log - std::log1p(dr / (r1 - a));
 }
 
 double AtanTerm(double x, double y, double z, double r) {

@@ -77,6 +77,15 @@ TEST(Prism, FiniteAndContinuousOnVerticesEdgesAndFaces) {
   }
 }
 
+// A point a hair off an edge of a flat prism (b^2 << z^2 in the logarithms): still finite
+// and continuous with the point on the edge.
+TEST(Prism, FiniteAHairOffAnEdge) {
+  const double on = PrismDownwardAttraction({-1, 0, -0.08}, {-0.9, 0.1, 0}, kRho);
+  const double off = PrismDownwardAttraction({-1, -1.4e-16, -0.08}, {-0.9, 0.1, 0}, kRho);
+  ASSERT_TRUE(std::isfinite(off));
+  EXPECT_NEAR(off, on, 1e-12 * std::abs(on));
+}
+
 // Symmetry: a point at the centre of a cube feels nothing vertically.
 TEST(Prism, NoVerticalPullAtTheCentreOfACube) {
   EXPECT_NEAR(PrismDownwardAttraction({-1, -1, -1}, {1, 1, 1}, kRho), 0.0, 1e-20);

@@ -1,0 +1,159 @@
+#include "processing/gravity/terrain_correction.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "processing/gravity/prism.h"
+
+namespace ts {
+
+bool TerrainCorrectionOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(density_kg_m3 > 0.0))
+    err = "density must be positive";
+  else if (!(sensor_height_m >= 0.0))
+    err = "sensor height must be >= 0";
+  else if (!(radius_m >= 0.0))
+    err = "radius must be >= 0";
+  else if (!(refine_radius_m >= 0.0))
+    err = "refine_radius_m must be >= 0";
+  else if (!(refine_ratio > 0.0) || !(min_subcell_m > 0.0))
+    err = "refine_ratio and min_subcell_m must be positive";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+namespace {
+
+constexpr double kRingEdges[] = {0.0, 2.0, 10.0, 20.0, 30.0, 50.0};
+constexpr int kRings = 6;
+
+int RingOf(double d) {
+  for (int k = 1; k < kRings; ++k)
+    if (d < kRingEdges[k]) return k - 1;
+  return kRings - 1;
+}
+
+// The correction of one column between height h and the reference H over the rectangle
+// [x0, x1] x [y0, y1] (relative to the sensor's horizontal position), sensor at height s
+// above H.
+double Column(double x0, double x1, double y0, double y1, double h, double ref, double sensor_z,
+              double density) {
+  if (h == ref) return 0.0;
+  const double lo = std::min(h, ref) - sensor_z, hi = std::max(h, ref) - sensor_z;
+  const double g = PrismDownwardAttraction({x0, y0, lo}, {x1, y1, hi}, density);
+  return h < ref ? g : -g;  // missing mass below: as it would pull; excess: opposite
+}
+
+// A square of the refined zone: split into four while it is large against its distance from
+// the station (the kernel's 1/r^2 makes the flat-top error grow as the square nears it),
+// each leaf a column with the surface's height at its centre.
+template <typename Sample>
+double RefinedColumn(double x0, double y0, double size, int depth, double fallback,
+                     const Sample& sample, double ref, double sensor_z,
+                     const TerrainCorrectionOptions& o) {
+  const double cx = x0 + 0.5 * size, cy = y0 + 0.5 * size;
+  const double distance = std::hypot(cx, cy);
+  if (size > o.refine_ratio * distance && size > o.min_subcell_m && depth < 16) {
+    const double s = 0.5 * size;
+    double sum = 0.0;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        sum +=
+            RefinedColumn(x0 + i * s, y0 + j * s, s, depth + 1, fallback, sample, ref, sensor_z, o);
+    return sum;
+  }
+  const double z = sample(cx, cy, fallback);
+  return Column(x0, x0 + size, y0, y0 + size, z, ref, sensor_z, o.density_kg_m3);
+}
+
+}  // namespace
+
+TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_std,
+                                           const Eigen::Vector3d& mark,
+                                           const TerrainCorrectionOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("terrain correction: " + why);
+  TerrainCorrection tc;
+  const double ref = mark.z(), sensor_z = mark.z() + o.sensor_height_m;
+  // Tie the surface to the mark: the DEM's misfit there, tapered over the refined zone.
+  const double at_mark = dem.Interpolate(mark.x(), mark.y());
+  tc.station_misfit_m = std::isfinite(at_mark) ? at_mark - ref : 0.0;
+  auto tie = [&](double d) {
+    return o.refine_radius_m > 0 ? tc.station_misfit_m * std::max(0.0, 1.0 - d / o.refine_radius_m)
+                                 : 0.0;
+  };
+  // The tied, bilinearly interpolated surface at (x, y) relative to the mark.
+  auto sample = [&](double x, double y, double fallback) {
+    double z = dem.Interpolate(x + mark.x(), y + mark.y());
+    if (!std::isfinite(z)) z = fallback;
+    return z - tie(std::hypot(x, y));
+  };
+  std::vector<double> ring_sum(kRings, 0.0);
+  std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0);
+  double variance = 0.0, correlated = 0.0;
+  const double half = 0.5 * dem.cell_m;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double cx = dem.CellCentreX(c) - mark.x(), cy = dem.CellCentreY(r) - mark.y();
+      const double d = std::hypot(cx, cy);
+      if (o.radius_m > 0 && d > o.radius_m) continue;
+      const int ring = RingOf(d);
+      ++ring_cells[ring];
+      const float h = dem.at(r, c);
+      if (Raster::IsNoData(h)) continue;
+      ++ring_data[ring];
+      double value = 0.0;
+      const bool refine = d - half * M_SQRT2 < o.refine_radius_m;
+      if (refine) {
+        value = RefinedColumn(cx - half, cy - half, dem.cell_m, 0, h, sample, ref, sensor_z, o);
+      } else {
+        value =
+            Column(cx - half, cx + half, cy - half, cy + half, h, ref, sensor_z, o.density_kg_m3);
+      }
+      value *= kMgalPerMs2;
+      ring_sum[ring] += value;
+      tc.total_mgal += value;
+      tc.quadrant_mgal[cy >= 0 ? (cx >= 0 ? 0 : 3) : (cx >= 0 ? 1 : 2)] += value;
+      if (dem_std) {
+        const float s = dem_std->at(r, c);
+        if (!Raster::IsNoData(s) && s > 0) {
+          const double eps = 0.01;
+          const double derivative = kMgalPerMs2 *
+                                    (Column(cx - half, cx + half, cy - half, cy + half, h + eps,
+                                            ref, sensor_z, o.density_kg_m3) -
+                                     Column(cx - half, cx + half, cy - half, cy + half, h - eps,
+                                            ref, sensor_z, o.density_kg_m3)) /
+                                    (2 * eps);
+          variance += derivative * derivative * s * s;
+          correlated += std::abs(derivative) * s;
+        }
+      }
+    }
+  tc.sigma_mgal = std::sqrt(variance);
+  tc.sigma_correlated_mgal = correlated;
+  for (int k = 0; k < kRings; ++k) {
+    RingContribution ring;
+    ring.inner_m = kRingEdges[k];
+    ring.outer_m = k + 1 < kRings ? kRingEdges[k + 1] : std::numeric_limits<double>::infinity();
+    ring.mgal = ring_sum[k];
+    ring.coverage = ring_cells[k] ? static_cast<double>(ring_data[k]) / ring_cells[k] : 0.0;
+    if (ring_cells[k] > 0 && ring.coverage < o.min_ring_coverage) {
+      char text[160];
+      std::snprintf(
+          text, sizeof text,
+          "ring %.0f-%s m: only %.0f %% of its cells have data; its %.4f mGal is "
+          "too thin to trust",
+          ring.inner_m,
+          std::isinf(ring.outer_m) ? "end" : std::to_string(static_cast<int>(ring.outer_m)).c_str(),
+          100 * ring.coverage, ring.mgal);
+      tc.warnings.push_back(text);
+    }
+    tc.rings.push_back(ring);
+  }
+  return tc;
+}
+
+}  // namespace ts

@@ -1,0 +1,63 @@
+#pragma once
+// Near-region terrain correction of a gravity reading from a DEM: the attraction of the
+// terrain's departure from the Bouguer plate through the station mark, as the correction to
+// add to the reading (mGal). Every cell is a vertical prism between the terrain and the mark's
+// height H, evaluated exactly (prism.h) at the gravimeter's sensor, H + sensor height above
+// the mark:
+//   TC = sum over cells of  g_down(missing mass, terrain below H)  -  g_down(excess, above H)
+// so terrain above and below the station both raise the correction (a bump below the sensor
+// lowers it, as it must).
+//
+// The innermost cells decide the answer: a staircase of flat-topped 1 m prisms overestimates
+// a sloping surface at the station by tens of percent. Cells within refine_radius_m are cut
+// into a quadtree of sub-prisms, finer towards the station, with heights interpolated
+// bilinearly, and the surface there is tied to the station mark (a known ground point): the
+// DEM's misfit at the mark is removed, tapering to nothing at refine_radius_m.
+//
+// Uncertainty: exact linearisation: dTC/dh per cell (a central difference of its prism) times
+// the cell's kriging standard deviation, cells taken as independent (kriging errors of
+// neighbouring cells are correlated: the value is a lower bound; the fully correlated bound
+// sum |dTC/dh| sigma is reported beside it).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct TerrainCorrectionOptions {
+  double density_kg_m3 = 2670.0;
+  double sensor_height_m = 0.0;  // gravimeter sensor above the station mark
+  double radius_m = 0.0;         // cells whose centre is within it; 0: the whole DEM
+  double refine_radius_m = 6.0;
+  // Refined cells are split into quarters while a square's side exceeds refine_ratio times
+  // its distance from the station (down to min_subcell_m).
+  double refine_ratio = 0.2;
+  double min_subcell_m = 0.005;
+  double min_ring_coverage = 0.9;  // warn below
+  bool Check(std::string* why) const;
+};
+
+struct RingContribution {
+  double inner_m = 0.0, outer_m = 0.0;  // outer = infinity for "the rest of the DEM"
+  double mgal = 0.0;
+  double coverage = 0.0;  // share of the ring's cells with data
+};
+
+struct TerrainCorrection {
+  double total_mgal = 0.0;
+  double sigma_mgal = 0.0;                 // independent cells
+  double sigma_correlated_mgal = 0.0;      // fully correlated cells (upper bound)
+  std::vector<RingContribution> rings;     // 0-2, 2-10, 10-20, 20-30, 30-50 m, rest
+  double quadrant_mgal[4] = {0, 0, 0, 0};  // NE, SE, SW, NW (x east, y north)
+  double station_misfit_m = 0.0;           // DEM at the mark minus the mark's height (removed)
+  std::vector<std::string> warnings;
+};
+
+// station_mark: (x, y, z) of the mark in the DEM's frame. dem_std may be null (sigma 0).
+TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_std,
+                                           const Eigen::Vector3d& station_mark,
+                                           const TerrainCorrectionOptions& options);
+
+}  // namespace ts

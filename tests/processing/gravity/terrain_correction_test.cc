@@ -1,0 +1,150 @@
+#include "processing/gravity/terrain_correction.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "processing/gravity/prism.h"
+
+namespace ts {
+namespace {
+
+constexpr double kRho = 2670.0;
+const double kGrhoMgal = kGravitationalConstant * kRho * kMgalPerMs2;
+
+Raster Dem(double half_m, double cell_m, const std::function<double(double, double)>& height) {
+  const int n = static_cast<int>(std::lround(2 * half_m / cell_m));
+  Raster dem = Raster::Make(-half_m, half_m, cell_m, n, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c)
+      dem.at(r, c) = static_cast<float>(height(dem.CellCentreX(c), dem.CellCentreY(r)));
+  return dem;
+}
+
+// An inclined plane through the station, z = x tan(a). A column at (r, theta) of height
+// h = r tan(a) cos(theta) pulls with G rho dA (1/r - 1/sqrt(r^2 + h^2)); over the disc of
+// radius R this is exactly linear in R:
+//   TC = G rho R  integral_0^2pi (1 - 1 / sqrt(1 + tan^2(a) cos^2(theta))) d theta.
+TEST(TerrainCorrection, InclinedPlaneWithinTwoPercentOfTheExactValue) {
+  for (double slope_deg : {5.0, 15.0, 30.0}) {
+    const double t = std::tan(slope_deg * M_PI / 180.0), radius = 30.0;
+    double integral = 0.0;
+    const int steps = 200000;
+    for (int k = 0; k < steps; ++k) {
+      const double c = std::cos((k + 0.5) * 2 * M_PI / steps);
+      integral += (1.0 - 1.0 / std::sqrt(1.0 + t * t * c * c)) * 2 * M_PI / steps;
+    }
+    const double exact = kGrhoMgal * radius * integral;
+    TerrainCorrectionOptions o;
+    o.radius_m = radius;
+    const TerrainCorrection tc = ComputeTerrainCorrection(
+        Dem(35, 1.0, [t](double x, double) { return x * t; }), nullptr, {0, 0, 0}, o);
+    EXPECT_NEAR(tc.total_mgal, exact, 0.02 * exact) << slope_deg << " deg";
+    // Without refinement the staircase at the station is far off.
+    o.refine_radius_m = 0.0;
+    const double coarse =
+        ComputeTerrainCorrection(Dem(35, 1.0, [t](double x, double) { return x * t; }), nullptr,
+                                 {0, 0, 0}, o)
+            .total_mgal;
+    EXPECT_GT(std::abs(coarse - exact), std::abs(tc.total_mgal - exact)) << slope_deg;
+  }
+}
+
+// A Hammer zone: a ring of flat terrain h above the station between r1 and r2 gives
+// 2 pi G rho [r2 - r1 + sqrt(r1^2 + h^2) - sqrt(r2^2 + h^2)].
+TEST(TerrainCorrection, HammerRingOfFlatTerrain) {
+  const double r1 = 10.0, r2 = 30.0, h = 5.0;
+  const double exact = 2 * M_PI * kGrhoMgal * (r2 - r1 + std::hypot(r1, h) - std::hypot(r2, h));
+  const Raster dem = Dem(35, 0.25, [&](double x, double y) {
+    const double d = std::hypot(x, y);
+    return d >= r1 && d < r2 ? h : 0.0;
+  });
+  const TerrainCorrection tc = ComputeTerrainCorrection(dem, nullptr, {0, 0, 0}, {});
+  EXPECT_NEAR(tc.total_mgal, exact, 0.01 * exact);
+  // All of it in the rings 10-20 and 20-30 m, a quarter in each quadrant.
+  EXPECT_NEAR(tc.rings[2].mgal + tc.rings[3].mgal, tc.total_mgal, 1e-9);
+  for (double q : tc.quadrant_mgal) EXPECT_NEAR(q, 0.25 * tc.total_mgal, 0.01 * tc.total_mgal);
+}
+
+// Terrain at the station's height everywhere: nothing to correct; a pit and a hill of the
+// same size both raise the correction; a bump below the raised sensor lowers it.
+TEST(TerrainCorrection, SignsOfHillsPitsAndBumpsBelowTheSensor) {
+  TerrainCorrectionOptions o;
+  EXPECT_NEAR(ComputeTerrainCorrection(Dem(20, 1, [](double, double) { return 3.0; }), nullptr,
+                                       {0, 0, 3.0}, o)
+                  .total_mgal,
+              0.0, 1e-12);
+  auto bump = [](double height) {
+    return [height](double x, double y) { return std::hypot(x - 8, y - 3) < 2 ? height : 0.0; };
+  };
+  const double hill =
+      ComputeTerrainCorrection(Dem(20, 1, bump(2.0)), nullptr, {0, 0, 0}, o).total_mgal;
+  const double pit =
+      ComputeTerrainCorrection(Dem(20, 1, bump(-2.0)), nullptr, {0, 0, 0}, o).total_mgal;
+  EXPECT_GT(hill, 0.0);
+  EXPECT_NEAR(pit, hill, 1e-9);  // mirror images at sensor height 0
+  o.sensor_height_m = 1.0;
+  const double small_bump_below_sensor =
+      ComputeTerrainCorrection(Dem(20, 1, bump(0.5)), nullptr, {0, 0, 0}, o).total_mgal;
+  EXPECT_LT(small_bump_below_sensor, 0.0);
+}
+
+// The mark is a known ground point: a DEM 0.3 m off at the station is tied to it there.
+TEST(TerrainCorrection, TiesTheSurfaceToTheStationMark) {
+  const double t = std::tan(10 * M_PI / 180.0);
+  TerrainCorrectionOptions o;
+  o.radius_m = 20;
+  const double right = ComputeTerrainCorrection(Dem(25, 1, [t](double x, double) { return x * t; }),
+                                                nullptr, {0, 0, 0}, o)
+                           .total_mgal;
+  const TerrainCorrection shifted =
+      ComputeTerrainCorrection(Dem(25, 1,
+                                   [t](double x, double y) {
+                                     return x * t + 0.3 * std::max(0.0, 1 - std::hypot(x, y) / 6);
+                                   }),
+                               nullptr, {0, 0, 0}, o);
+  EXPECT_NEAR(shifted.station_misfit_m, 0.3 * (1 - M_SQRT1_2 / 6), 1e-6);  // bilinear at the mark
+  EXPECT_NEAR(shifted.total_mgal, right, 0.01 * right);
+}
+
+// The linearised sigma: a uniform std s on every cell against the change of the correction
+// when each cell's own height moves (independent), and the correlated bound above it.
+TEST(TerrainCorrection, SigmaFromTheDemStd) {
+  const Raster dem = Dem(20, 1, [](double x, double y) { return 0.1 * x + 0.05 * y * y / 10; });
+  Raster std_dev = dem;
+  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.2f);
+  const TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
+  EXPECT_GT(tc.sigma_mgal, 0.0);
+  EXPECT_GT(tc.sigma_correlated_mgal, tc.sigma_mgal);
+  // Halving the std halves both.
+  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.1f);
+  const TerrainCorrection half = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
+  EXPECT_NEAR(half.sigma_mgal, 0.5 * tc.sigma_mgal, 1e-6 * tc.sigma_mgal);
+  EXPECT_EQ(ComputeTerrainCorrection(dem, nullptr, {0, 0, 0}, {}).sigma_mgal, 0.0);
+}
+
+TEST(TerrainCorrection, WarnsWhereARingIsThinlyCovered) {
+  Raster dem = Dem(35, 1, [](double x, double) { return 0.2 * x; });
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      if (std::hypot(dem.CellCentreX(c), dem.CellCentreY(r)) > 20 && dem.CellCentreX(c) < 0)
+        dem.at(r, c) = Raster::kNoData;
+  const TerrainCorrection tc = ComputeTerrainCorrection(dem, nullptr, {0, 0, 0}, {});
+  EXPECT_GT(tc.rings[1].coverage, 0.99);
+  EXPECT_LT(tc.rings[3].coverage, 0.6);
+  ASSERT_FALSE(tc.warnings.empty());
+  EXPECT_NE(tc.warnings.front().find("ring 20-30 m"), std::string::npos) << tc.warnings.front();
+}
+
+TEST(TerrainCorrection, RejectsBadOptions) {
+  TerrainCorrectionOptions o;
+  o.density_kg_m3 = 0;
+  std::string why;
+  EXPECT_FALSE(o.Check(&why));
+  EXPECT_THROW(ComputeTerrainCorrection(Dem(5, 1, [](double, double) { return 0.0; }), nullptr,
+                                        {0, 0, 0}, o),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ts
