@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   ts::AddDevicesCommand(app);
   ts::AddProcessCommands(app);
   ts::AddSurveyCommand(app);
+  ts::AddTerrainCorrectionCommand(app);
   ts::SetProgramArguments(argc, argv);
   try {
     app.parse(argc, argv);

@@ -8,6 +8,7 @@
 
 #include "processing/cloud/ground_filter.h"
 #include "processing/dem/dem_evaluation.h"
+#include "processing/gravity/terrain_correction.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/point_cloud_file.h"
@@ -24,6 +25,9 @@ struct ProcessArgs {
 };
 
 void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
+  std::printf("%s: terrain correction %.4f +- %.4f mGal\n", station.c_str(),
+              r["terrain_correction_mgal"].get<double>(),
+              r["terrain_correction_sigma_mgal"].get<double>());
   std::printf(
       "%s: %d points, %d ground, DEM %s (%.0f %% of the cells within 30 m, %.0f %% of "
       "the square) in %.1f s; products in %s/products\n",
@@ -92,6 +96,19 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
                        "/dem.tif");
   nlohmann::json j = e.ToJson();
   j["truth"] = truth_dir;
+  // The terrain correction from this DEM against the one from the true bare earth on the
+  // same grid, both at the true mark.
+  const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
+  const Result<Raster> s = ReadGeoTiff(station + "/products/dem_std.tif");
+  const TerrainCorrectionOptions tc_options;
+  const TerrainCorrection ours =
+      ComputeTerrainCorrection(*dem, s ? &*s : nullptr, mark, tc_options);
+  const TerrainCorrection truth_tc =
+      ComputeTerrainCorrection(truth->ResampledOnto(*dem), nullptr, mark, tc_options);
+  j["terrain_correction_mgal"] = ours.total_mgal;
+  j["terrain_correction_sigma_mgal"] = ours.sigma_mgal;
+  j["terrain_correction_true_mgal"] = truth_tc.total_mgal;
+  j["terrain_correction_error_mgal"] = ours.total_mgal - truth_tc.total_mgal;
   if (Status s = WriteFileAtomically(station + "/products/evaluation.json", j.dump(2) + "\n"); !s)
     throw CommandError(s.error());
   return j;
@@ -137,6 +154,13 @@ void AddProcessCommands(CLI::App& app) {
           j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
           j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
           100 * j["coverage_60m_square"].get<double>());
+      std::printf(
+          "terrain correction %.4f +- %.4f mGal; from the true DEM %.4f mGal (error "
+          "%+.4f mGal)\n",
+          j["terrain_correction_mgal"].get<double>(),
+          j["terrain_correction_sigma_mgal"].get<double>(),
+          j["terrain_correction_true_mgal"].get<double>(),
+          j["terrain_correction_error_mgal"].get<double>());
     }
   });
 

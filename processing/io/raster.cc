@@ -54,6 +54,16 @@ double Raster::Interpolate(double x_m, double y_m) const {
   return (1 - ty) * ((1 - tx) * v00 + tx * v01) + ty * ((1 - tx) * v10 + tx * v11);
 }
 
+Raster Raster::ResampledOnto(const Raster& grid) const {
+  Raster out = grid;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const double v = Interpolate(grid.CellCentreX(c), grid.CellCentreY(r));
+      out.at(r, c) = std::isfinite(v) ? static_cast<float>(v) : kNoData;
+    }
+  return out;
+}
+
 Status WriteGeoTiff(const Raster& raster, const std::string& path) {
   RegisterGdalOnce();
   if (raster.cols <= 0 || raster.rows <= 0 ||

@@ -32,6 +32,8 @@ struct Raster {
   static bool IsNoData(float v) { return !std::isfinite(v) || v == kNoData; }
   // Bilinear interpolation between cell centres; NaN outside or next to nodata.
   double Interpolate(double x_m, double y_m) const;
+  // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).
+  Raster ResampledOnto(const Raster& grid) const;
 };
 
 // Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a

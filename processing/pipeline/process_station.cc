@@ -9,6 +9,7 @@
 #include "processing/dem/dem_evaluation.h"
 #include "processing/dem/georeference.h"
 #include "processing/geometry/theoretical_accuracy.h"
+#include "processing/gravity/terrain_correction_json.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/image_file.h"
@@ -183,6 +184,13 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
     warnings.push_back("DEM covers only " + std::to_string(static_cast<int>(100 * coverage_30m)) +
                        " % of the cells within 30 m of the station");
 
+  timer.Start("terrain_correction");
+  const Eigen::Vector3d mark_dem(station_xy.x(), station_xy.y(),
+                                 georeference ? georeference->ToWorld(mark_l).z() : mark_l.z());
+  const TerrainCorrection tc =
+      ComputeTerrainCorrection(kriged.dem, &kriged.std, mark_dem, o.terrain_correction);
+  for (const std::string& w : tc.warnings) warnings.push_back("terrain correction: " + w);
+
   timer.Start("products");
   const std::string products = dir + "/products";
   std::error_code ec;
@@ -211,6 +219,11 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
     Status s = WriteGeoTiff(*raster, products + "/" + name);
     if (!s) return Error{s.error()};
   }
+  if (Status s = WriteFileAtomically(
+          products + "/terrain_correction.json",
+          TerrainCorrectionToJson(tc, o.terrain_correction, mark_dem).dump(2) + "\n");
+      !s)
+    return Error{s.error()};
   if (auto s = WritePngAtomically(RenderDemImage(kriged.dem, station_xy), products + "/dem.png");
       !s)
     return Error{s.error()};
@@ -224,8 +237,9 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   nlohmann::json report;
   report["station"] = manifest->station_id;
   report["frame"] = georeference ? "projected CRS (GCPs)" : "station frame L";
-  report["station_mark"] = {station_xy.x(), station_xy.y(),
-                            georeference ? georeference->ToWorld(mark_l).z() : mark_l.z()};
+  report["station_mark"] = {mark_dem.x(), mark_dem.y(), mark_dem.z()};
+  report["terrain_correction_mgal"] = tc.total_mgal;
+  report["terrain_correction_sigma_mgal"] = tc.sigma_mgal;
   report["timings_s"] = timer.timings();
   report["timings_s"]["rectification_maps"] = matched.rectification_s;
   report["wall_s"] = std::chrono::duration<double>(Clock::now() - wall_start).count();
@@ -283,6 +297,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   result.point_class = std::move(class_of);
   result.dem = std::move(kriged.dem);
   result.dem_std = std::move(kriged.std);
+  result.terrain_correction = tc;
   return result;
 }
 

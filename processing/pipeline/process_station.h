@@ -3,7 +3,8 @@
 //   load + check the raw pairs -> matching and intersection into L (all pairs) -> median-
 //   height blunder filter -> ground filter -> ordinary kriging at 1 m over the square around
 //   the station (optionally georeferenced with GCPs) -> products/:
-//   points.ply, dem.tif, dem_std.tif, dem.png, panorama.png, report.json.
+//   points.ply, dem.tif, dem_std.tif, dem.png, panorama.png, terrain_correction.json,
+//   report.json.
 // Every product is written atomically; report.json is written last.
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include "processing/cloud/point_cloud.h"
 #include "processing/common/result.h"
 #include "processing/dem/kriging.h"
+#include "processing/gravity/terrain_correction.h"
 #include "processing/io/raster.h"
 #include "processing/matching/pair_matcher.h"
 #include "processing/products/panorama.h"
@@ -46,6 +48,7 @@ struct ProcessOptions {
   }();
   KrigingOptions kriging;
   PanoramaOptions panorama;
+  TerrainCorrectionOptions terrain_correction;
   // Called at the start of every stage with its name (from the calling thread).
   std::function<void(const std::string& stage)> progress;
   bool Check(std::string* why) const;
@@ -58,6 +61,7 @@ struct ProcessResult {
   PointCloud cloud;                  // every intersected point, in L
   std::vector<uint8_t> point_class;  // PointClass per point of the cloud
   Raster dem, dem_std;
+  TerrainCorrection terrain_correction;
 };
 
 // The products on success; an error naming the file and field otherwise.

@@ -29,8 +29,11 @@ void SurveyFlat(const std::string& dir, const std::string& as_user,
   EXPECT_LT(j["evaluation"]["dem_rmse_m"].get<double>(), 0.05);
   EXPECT_GE(j["evaluation"]["coverage_30m"].get<double>(), 0.95);
   EXPECT_GE(j["evaluation"]["coverage_60m_square"].get<double>(), 0.85);
+  // Flat ground at the station's height: no terrain correction, and none from the truth.
+  EXPECT_NEAR(j["evaluation"]["terrain_correction_mgal"].get<double>(), 0.0, 0.002);
+  EXPECT_NEAR(j["evaluation"]["terrain_correction_error_mgal"].get<double>(), 0.0, 0.001);
   for (const char* product : {"dem.tif", "dem_std.tif", "dem.png", "points.ply", "panorama.png",
-                              "report.json", "evaluation.json"})
+                              "terrain_correction.json", "report.json", "evaluation.json"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/st/products/" + product)) << product;
   EXPECT_TRUE(std::filesystem::exists(dir + "/st-truth/dem.tif"));
   const Result<Raster> dem = ReadGeoTiff(dir + "/st/products/dem.tif");

@@ -1,0 +1,37 @@
+#include "processing/gravity/terrain_correction_json.h"
+
+#include <cmath>
+
+namespace ts {
+
+nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
+                                       const TerrainCorrectionOptions& o,
+                                       const Eigen::Vector3d& mark) {
+  nlohmann::json rings = nlohmann::json::array();
+  for (const RingContribution& r : tc.rings)
+    rings.push_back({{"inner_m", r.inner_m},
+                     {"outer_m", std::isinf(r.outer_m) ? nlohmann::json("end of DEM")
+                                                       : nlohmann::json(r.outer_m)},
+                     {"mgal", r.mgal},
+                     {"coverage", r.coverage}});
+  return {{"terrain_correction_mgal", tc.total_mgal},
+          {"sigma_mgal", tc.sigma_mgal},
+          {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
+          {"sigma_method",
+           "linearisation: dTC/dh of each cell times its kriging std, cells independent; the "
+           "fully correlated sum is an upper bound"},
+          {"rings", rings},
+          {"quadrants_mgal",
+           {{"NE", tc.quadrant_mgal[0]},
+            {"SE", tc.quadrant_mgal[1]},
+            {"SW", tc.quadrant_mgal[2]},
+            {"NW", tc.quadrant_mgal[3]}}},
+          {"station_mark", {mark.x(), mark.y(), mark.z()}},
+          {"dem_misfit_at_mark_m", tc.station_misfit_m},
+          {"density_g_cm3", o.density_kg_m3 / 1000.0},
+          {"sensor_height_m", o.sensor_height_m},
+          {"radius_m", o.radius_m > 0 ? nlohmann::json(o.radius_m) : nlohmann::json("whole DEM")},
+          {"warnings", tc.warnings}};
+}
+
+}  // namespace ts

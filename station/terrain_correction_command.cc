@@ -1,0 +1,117 @@
+// topostation terrain-correction (STATION | DEM.tif): the near-region terrain correction of
+// the gravity reading at the station, in mGal with its standard deviation (DESIGN.md).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "processing/gravity/terrain_correction_json.h"
+#include "processing/io/atomic_file.h"
+#include "processing/io/raster.h"
+#include "station/commands.h"
+
+namespace ts {
+namespace {
+
+struct TerrainCorrectionArgs {
+  std::string input;
+  std::vector<double> station_xy;
+  double station_z = NAN;
+  double sensor_height_m = 0.0;
+  double density_g_cm3 = 2.67;
+  double radius_m = 0.0;
+  std::string out;
+  bool json = false;
+};
+
+void Run(const TerrainCorrectionArgs& args) {
+  const bool station_dir = std::filesystem::is_directory(args.input);
+  const std::string dem_file = station_dir ? args.input + "/products/dem.tif" : args.input;
+  const Result<Raster> dem = ReadGeoTiff(dem_file);
+  if (!dem) throw CommandError(dem.error() + (station_dir ? " (run `topostation process`)" : ""));
+  Raster std_dev;
+  bool have_std = false;
+  const std::string std_file =
+      station_dir ? args.input + "/products/dem_std.tif"
+                  : std::filesystem::path(dem_file).replace_filename("dem_std.tif").string();
+  if (std::filesystem::exists(std_file)) {
+    Result<Raster> s = ReadGeoTiff(std_file);
+    if (!s) throw CommandError(s.error());
+    if (s->cols != dem->cols || s->rows != dem->rows)
+      throw CommandError(std_file + ": not on the grid of " + dem_file);
+    std_dev = *s, have_std = true;
+  }
+  Eigen::Vector3d mark;
+  if (station_dir && args.station_xy.empty()) {
+    const std::string report_file = args.input + "/products/report.json";
+    Result<std::string> text = ReadWholeFile(report_file);
+    if (!text) throw CommandError(text.error());
+    const nlohmann::json report = nlohmann::json::parse(*text, nullptr, false);
+    if (report.is_discarded() || !report.contains("station_mark") ||
+        !report["station_mark"].is_array() || report["station_mark"].size() != 3)
+      throw CommandError(report_file + ": station_mark: missing or not [x, y, z]");
+    for (int k = 0; k < 3; ++k) mark[k] = report["station_mark"][k].get<double>();
+  } else {
+    if (args.station_xy.size() != 2)
+      throw CommandError(dem_file + ": a bare DEM needs --station X,Y (the mark's position)");
+    mark.x() = args.station_xy[0], mark.y() = args.station_xy[1];
+    mark.z() =
+        std::isfinite(args.station_z) ? args.station_z : dem->Interpolate(mark.x(), mark.y());
+    if (!std::isfinite(mark.z()))
+      throw CommandError(dem_file + ": no height at the station " + std::to_string(mark.x()) +
+                         ", " + std::to_string(mark.y()) +
+                         " (outside or nodata; give --station-z)");
+  }
+  TerrainCorrectionOptions o;
+  o.density_kg_m3 = args.density_g_cm3 * 1000.0;
+  o.sensor_height_m = args.sensor_height_m;
+  o.radius_m = args.radius_m;
+  std::string why;
+  if (!o.Check(&why)) throw CommandError("terrain-correction: " + why);
+  const TerrainCorrection tc =
+      ComputeTerrainCorrection(*dem, have_std ? &std_dev : nullptr, mark, o);
+  const nlohmann::json j = TerrainCorrectionToJson(tc, o, mark);
+  const std::string out =
+      !args.out.empty() ? args.out
+      : station_dir
+          ? args.input + "/products/terrain_correction.json"
+          : std::filesystem::path(dem_file).replace_filename("terrain_correction.json").string();
+  if (Status s = WriteFileAtomically(out, j.dump(2) + "\n"); !s) throw CommandError(s.error());
+  if (args.json) {
+    std::printf("%s\n", j.dump().c_str());
+    return;
+  }
+  std::printf(
+      "terrain correction %.4f +- %.4f mGal (density %.2f g/cm3, sensor %.2f m above the "
+      "mark); %s\n",
+      tc.total_mgal, tc.sigma_mgal, args.density_g_cm3, args.sensor_height_m, out.c_str());
+  for (const RingContribution& r : tc.rings)
+    if (r.coverage > 0.0)
+      std::printf(
+          "  ring %4.0f-%-4s m: %8.4f mGal, coverage %5.1f %%\n", r.inner_m,
+          std::isinf(r.outer_m) ? "end" : std::to_string(static_cast<int>(r.outer_m)).c_str(),
+          r.mgal, 100 * r.coverage);
+  for (const std::string& w : tc.warnings) std::printf("warning: %s\n", w.c_str());
+}
+
+}  // namespace
+
+void AddTerrainCorrectionCommand(CLI::App& app) {
+  auto args = std::make_shared<TerrainCorrectionArgs>();
+  CLI::App* t =
+      app.add_subcommand("terrain-correction",
+                         "Near-region terrain correction (mGal) from a station or a DEM GeoTIFF");
+  t->add_option("input", args->input, "processed station directory or DEM GeoTIFF")->required();
+  t->add_option("--station", args->station_xy, "X,Y of the station mark (bare DEM)")
+      ->delimiter(',');
+  t->add_option("--station-z", args->station_z, "height of the mark (default: from the DEM)");
+  t->add_option("--sensor-height", args->sensor_height_m,
+                "gravimeter sensor above the mark, m (default 0)");
+  t->add_option("--density", args->density_g_cm3, "g/cm3 (default 2.67)");
+  t->add_option("--radius", args->radius_m, "m (default: the whole DEM)");
+  t->add_option("--out", args->out, "JSON file (default: terrain_correction.json beside the DEM)");
+  t->add_flag("--json", args->json, "print the result as JSON");
+  t->callback([args] { Run(*args); });
+}
+
+}  // namespace ts

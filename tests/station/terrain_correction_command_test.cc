@@ -1,0 +1,63 @@
+// `topostation terrain-correction` on a bare GeoTIFF DEM, through the real command line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "processing/gravity/prism.h"
+#include "processing/io/raster.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+using testing::RunCommand;
+
+// An inclined plane 100 m above the datum through the station (the exact value: see
+// terrain_correction_test.cc).
+TEST(TerrainCorrectionCommand, InclinedPlaneGeoTiffAgainstTheExactValue) {
+  testing::TempDir dir;
+  const double t = std::tan(15 * M_PI / 180.0);
+  Raster dem = Raster::Make(-35, 35, 1.0, 70, 70);
+  for (int r = 0; r < 70; ++r)
+    for (int c = 0; c < 70; ++c) dem.at(r, c) = static_cast<float>(100.0 + dem.CellCentreX(c) * t);
+  ASSERT_TRUE(WriteGeoTiff(dem, dir / "plane.tif"));
+  double integral = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    const double c = std::cos((k + 0.5) * 2 * M_PI / 100000);
+    integral += (1.0 - 1.0 / std::sqrt(1.0 + t * t * c * c)) * 2 * M_PI / 100000;
+  }
+  for (double density : {2.67, 2.0}) {
+    const double exact = kGravitationalConstant * density * 1000 * kMgalPerMs2 * 30.0 * integral;
+    const auto r =
+        RunCommand(std::string(TS_TOPOSTATION_EXE) + " terrain-correction " + (dir / "plane.tif") +
+                   " --station 0,0 --radius 30 --density " + std::to_string(density) + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_NEAR(j["terrain_correction_mgal"].get<double>(), exact, 0.02 * exact);
+    EXPECT_NEAR(j["station_mark"][2].get<double>(), 100.0, 1e-4);  // height from the DEM
+    EXPECT_EQ(j["rings"].size(), 6u);
+    EXPECT_TRUE(std::filesystem::exists(dir / "terrain_correction.json"));
+  }
+}
+
+TEST(TerrainCorrectionCommand, BadInputGivesOneClearError) {
+  testing::TempDir dir;
+  ASSERT_TRUE(WriteGeoTiff(Raster::Make(0, 10, 1.0, 10, 10, 5.0f), dir / "d.tif"));
+  auto error_of = [](const std::string& args) {
+    const auto r =
+        RunCommand(std::string(TS_TOPOSTATION_EXE) + " terrain-correction " + args + " 2>&1");
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    return r.out;
+  };
+  EXPECT_NE(error_of(dir / "d.tif").find("needs --station"), std::string::npos);
+  EXPECT_NE(error_of((dir / "d.tif") + " --station 50,50").find("no height at the station"),
+            std::string::npos);
+  EXPECT_NE(error_of((dir / "d.tif") + " --station 5,5 --density -1").find("density"),
+            std::string::npos);
+  EXPECT_NE(error_of(dir / "none.tif").find("none.tif"), std::string::npos);
+  EXPECT_NE(error_of(dir.path().string()).find("products/dem.tif"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
