@@ -12,7 +12,7 @@
 namespace ts {
 
 struct PanoramaOptions {
-  double deg_per_px = 0.15;
+  double deg_per_px = 0.2;  // 1800 px around: an overview (the raw images hold the detail)
   double min_elevation_deg = -60.0;
   double max_elevation_deg = 20.0;
 };

@@ -66,6 +66,18 @@ TEST(TerrainCorrection, HammerRingOfFlatTerrain) {
   for (double q : tc.quadrant_mgal) EXPECT_NEAR(q, 0.25 * tc.total_mgal, 0.01 * tc.total_mgal);
 }
 
+// A cylindrical pit of radius a and depth h centred under the station: the missing mass of
+// a cylinder at the centre of its top face, 2 pi G rho [h + a - sqrt(a^2 + h^2)].
+TEST(TerrainCorrection, CylinderOnItsAxis) {
+  const double a = 10.0, h = 3.0;
+  const double exact = 2 * M_PI * kGrhoMgal * (h + a - std::hypot(a, h));
+  const Raster dem =
+      Dem(15, 0.25, [&](double x, double y) { return std::hypot(x, y) < a ? -h : 0.0; });
+  TerrainCorrectionOptions o;
+  o.refine_radius_m = 0.0;  // the point floats over the pit: no mark on the surface to tie to
+  EXPECT_NEAR(ComputeTerrainCorrection(dem, nullptr, {0, 0, 0}, o).total_mgal, exact, 0.01 * exact);
+}
+
 // Terrain at the station's height everywhere: nothing to correct; a pit and a hill of the
 // same size both raise the correction; a bump below the raised sensor lowers it.
 TEST(TerrainCorrection, SignsOfHillsPitsAndBumpsBelowTheSensor) {
