@@ -88,7 +88,7 @@ void RunSurvey(const SurveyArgs& args) {
               report["wall_s"].get<double>());
   std::printf(
       "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
-      "report.json); truth: %s\n",
+      "terrain_correction.json, report.json); truth: %s\n",
       args.out.c_str(), truth_dir.c_str());
   std::printf(
       "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage %.1f %% "
