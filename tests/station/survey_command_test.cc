@@ -1,0 +1,79 @@
+// `survey --sim` through the real command line: full captures over the real drivers, so these
+// run serially (beside the system tests they would starve their timing-sensitive captures).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "processing/io/raster.h"
+#include "tests/common/station_fixture.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+using testing::RunCommand;
+
+std::string Exe() { return TS_TOPOSTATION_EXE; }
+
+// The whole main job on the simulated flat scene: capture over the real drivers in a private
+// network namespace the command makes itself, process with the true calibration, evaluate.
+void SurveyFlat(const std::string& dir, const std::string& as_user,
+                const std::string& exe = Exe()) {
+  const auto r =
+      RunCommand(as_user + exe + " survey --sim --scene flat --out " + dir + "/st --json 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  EXPECT_LT(j["evaluation"]["dem_rmse_m"].get<double>(), 0.05);
+  EXPECT_GE(j["evaluation"]["coverage_30m"].get<double>(), 0.95);
+  EXPECT_GE(j["evaluation"]["coverage_60m_square"].get<double>(), 0.85);
+  // Flat ground at the station's height: no terrain correction, and none from the truth.
+  EXPECT_NEAR(j["evaluation"]["terrain_correction_mgal"].get<double>(), 0.0, 0.002);
+  EXPECT_NEAR(j["evaluation"]["terrain_correction_error_mgal"].get<double>(), 0.0, 0.001);
+  for (const char* product : {"dem.tif", "dem_std.tif", "dem.png", "points.ply", "panorama.png",
+                              "terrain_correction.json", "report.json", "evaluation.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/st/products/" + product)) << product;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/st-truth/dem.tif"));
+  const Result<Raster> dem = ReadGeoTiff(dir + "/st/products/dem.tif");
+  ASSERT_TRUE(dem) << dem.error();
+  EXPECT_EQ(dem->cols, 60);
+  EXPECT_EQ(dem->rows, 60);
+  // evaluate again from the command, reading what survey wrote.
+  const auto e = RunCommand(Exe() + " evaluate " + dir + "/st --truth " + dir + "/st-truth --json");
+  ASSERT_EQ(e.exit_code, 0);
+  EXPECT_NEAR(nlohmann::json::parse(e.out)["dem_rmse_m"].get<double>(),
+              j["evaluation"]["dem_rmse_m"].get<double>(), 1e-9);
+}
+
+TEST(SurveySim, FlatSceneEndToEnd) {
+  testing::TempDir dir;
+  SurveyFlat(dir.path().string(), "");
+}
+
+// A normal user gets the same, with no set-up step (a user + network namespace).
+TEST(SurveySim, FlatSceneAsANormalUser) {
+  if (::geteuid() != 0) {  // we are a normal user already: the test above is this test
+    SUCCEED();
+    return;
+  }
+  testing::TempDir dir;
+  std::filesystem::permissions(dir.path(), std::filesystem::perms::all);
+  // A copy the user can run wherever the build tree lives (it links only system libraries).
+  std::filesystem::copy_file(Exe(), dir / "topostation");
+  SurveyFlat(dir.path().string(), "setpriv --reuid=65534 --regid=65534 --clear-groups ",
+             dir / "topostation");
+}
+
+TEST(SurveySim, RefusesAnExistingStationAndRealRigs) {
+  testing::TempDir dir;
+  testing::MakeStation(dir / "S", 2, 2);
+  auto r = RunCommand(Exe() + " survey --sim --out " + (dir / "S") + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.out.find("already a station"), std::string::npos) << r.out;
+  r = RunCommand(Exe() + " survey --out " + (dir / "T") + " 2>&1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.out.find("only --sim"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace ts
