@@ -33,5 +33,7 @@ nlohmann::json ProcessOrThrow(const std::string& station_dir, ProcessOptions opt
                               bool show_progress);
 // products/evaluation.json of a processed station against a truth directory.
 nlohmann::json EvaluateOrThrow(const std::string& station_dir, const std::string& truth_dir);
+// Its two summary lines (DEM errors and coverage; terrain correction against the truth's).
+void PrintEvaluation(const nlohmann::json& evaluation);
 
 }  // namespace ts

@@ -78,6 +78,20 @@ nlohmann::json ProcessOrThrow(const std::string& station, ProcessOptions options
   return result->report;
 }
 
+void PrintEvaluation(const nlohmann::json& j) {
+  std::printf(
+      "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage %.1f %% "
+      "within 30 m, %.1f %% of the 60 m square\n",
+      j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
+      j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
+      100 * j["coverage_60m_square"].get<double>());
+  std::printf(
+      "terrain correction %.4f +- %.4f mGal; from the true DEM %.4f mGal (error %+.4f mGal)\n",
+      j["terrain_correction_mgal"].get<double>(), j["terrain_correction_sigma_mgal"].get<double>(),
+      j["terrain_correction_true_mgal"].get<double>(),
+      j["terrain_correction_error_mgal"].get<double>());
+}
+
 nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& truth_dir) {
   const Result<Raster> dem = ReadGeoTiff(station + "/products/dem.tif");
   if (!dem) throw CommandError(dem.error() + " (run `topostation process` first)");
@@ -148,19 +162,7 @@ void AddProcessCommands(CLI::App& app) {
     if (evaluate->json) {
       std::printf("%s\n", j.dump().c_str());
     } else {
-      std::printf(
-          "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage "
-          "%.1f %% within 30 m, %.1f %% of the 60 m square\n",
-          j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
-          j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
-          100 * j["coverage_60m_square"].get<double>());
-      std::printf(
-          "terrain correction %.4f +- %.4f mGal; from the true DEM %.4f mGal (error "
-          "%+.4f mGal)\n",
-          j["terrain_correction_mgal"].get<double>(),
-          j["terrain_correction_sigma_mgal"].get<double>(),
-          j["terrain_correction_true_mgal"].get<double>(),
-          j["terrain_correction_error_mgal"].get<double>());
+      PrintEvaluation(j);
     }
   });
 

@@ -90,19 +90,7 @@ void RunSurvey(const SurveyArgs& args) {
       "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
       "terrain_correction.json, report.json); truth: %s\n",
       args.out.c_str(), truth_dir.c_str());
-  std::printf(
-      "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage %.1f %% "
-      "within 30 m, %.1f %% of the 60 m square\n",
-      evaluation["dem_rmse_m"].get<double>(), evaluation["dem_bias_m"].get<double>(),
-      evaluation["dem_p95_abs_m"].get<double>(), 100 * evaluation["coverage_30m"].get<double>(),
-      100 * evaluation["coverage_60m_square"].get<double>());
-  std::printf(
-      "terrain correction %.4f +- %.4f mGal (density 2.67 g/cm3, sensor at the mark); "
-      "from the true DEM %.4f mGal: error %+.4f mGal\n",
-      evaluation["terrain_correction_mgal"].get<double>(),
-      evaluation["terrain_correction_sigma_mgal"].get<double>(),
-      evaluation["terrain_correction_true_mgal"].get<double>(),
-      evaluation["terrain_correction_error_mgal"].get<double>());
+  PrintEvaluation(evaluation);
   for (const auto& w : report["warnings"])
     std::printf("warning: %s\n", w.get<std::string>().c_str());
 }
