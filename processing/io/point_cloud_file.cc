@@ -20,43 +20,32 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
   return tail == suffix;
 }
 
+template <typename T>
+double Load(const uint8_t* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return static_cast<double>(v);
+}
+
 // Value of a scalar field of any numeric PCL type.
 double FieldValue(const uint8_t* p, uint8_t datatype) {
   switch (datatype) {
-    case pcl::PCLPointField::FLOAT32: {
-      float v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::FLOAT64: {
-      double v;
-      std::memcpy(&v, p, 8);
-      return v;
-    }
-    case pcl::PCLPointField::INT32: {
-      int32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::UINT32: {
-      uint32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case pcl::PCLPointField::INT16: {
-      int16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
-    case pcl::PCLPointField::UINT16: {
-      uint16_t v;
-      std::memcpy(&v, p, 2);
-      return v;
-    }
+    case pcl::PCLPointField::FLOAT32:
+      return Load<float>(p);
+    case pcl::PCLPointField::FLOAT64:
+      return Load<double>(p);
+    case pcl::PCLPointField::INT32:
+      return Load<int32_t>(p);
+    case pcl::PCLPointField::UINT32:
+      return Load<uint32_t>(p);
+    case pcl::PCLPointField::INT16:
+      return Load<int16_t>(p);
+    case pcl::PCLPointField::UINT16:
+      return Load<uint16_t>(p);
     case pcl::PCLPointField::INT8:
-      return static_cast<int8_t>(*p);
+      return Load<int8_t>(p);
     case pcl::PCLPointField::UINT8:
-      return *p;
+      return Load<uint8_t>(p);
     default:
       return NAN;
   }
