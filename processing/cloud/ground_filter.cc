@@ -33,8 +33,8 @@ namespace {
 float Sample(const cv::Mat& grid, double col_f, double row_f) {
   col_f = std::clamp(col_f, 0.0, grid.cols - 1.0);
   row_f = std::clamp(row_f, 0.0, grid.rows - 1.0);
-  const int c0 = std::min(static_cast<int>(col_f), grid.cols - 2 < 0 ? 0 : grid.cols - 2);
-  const int r0 = std::min(static_cast<int>(row_f), grid.rows - 2 < 0 ? 0 : grid.rows - 2);
+  const int c0 = std::min(static_cast<int>(col_f), std::max(0, grid.cols - 2));
+  const int r0 = std::min(static_cast<int>(row_f), std::max(0, grid.rows - 2));
   const int c1 = std::min(c0 + 1, grid.cols - 1), r1 = std::min(r0 + 1, grid.rows - 1);
   const float tx = static_cast<float>(col_f - c0), ty = static_cast<float>(row_f - r0);
   const float a = grid.at<float>(r0, c0) + tx * (grid.at<float>(r0, c1) - grid.at<float>(r0, c0));
