@@ -85,6 +85,9 @@ void PrintEvaluation(const nlohmann::json& j) {
       j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
       j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
       100 * j["coverage_60m_square"].get<double>());
+  if (j["std_ratio_rms"].is_number())
+    std::printf("DEM std against its true errors: RMS error/std %.2f, %.1f %% within 2 std\n",
+                j["std_ratio_rms"].get<double>(), 100 * j["within_2std"].get<double>());
   std::printf(
       "terrain correction %.4f +- %.4f mGal; from the true DEM %.4f mGal (error %+.4f mGal)\n",
       j["terrain_correction_mgal"].get<double>(), j["terrain_correction_sigma_mgal"].get<double>(),
@@ -104,7 +107,8 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   const Result<Calibration> calibration = LoadCalibrationYaml(truth_dir + "/calibration.yaml");
   if (!calibration) throw CommandError(calibration.error());
   const Eigen::Vector2d station_xy = calibration->stage.StationMarkInL().head<2>();
-  const DemEvaluation e = EvaluateDem(*dem, *truth, station_xy);
+  const Result<Raster> s = ReadGeoTiff(station + "/products/dem_std.tif");
+  const DemEvaluation e = EvaluateDem(*dem, *truth, station_xy, s ? &*s : nullptr);
   if (e.cells_compared == 0)
     throw CommandError(station + "/products/dem.tif: no cell overlaps the truth DEM " + truth_dir +
                        "/dem.tif");
@@ -113,7 +117,6 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   // The terrain correction from this DEM against the one from the true bare earth on the
   // same grid, both at the true mark.
   const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
-  const Result<Raster> s = ReadGeoTiff(station + "/products/dem_std.tif");
   const TerrainCorrectionOptions tc_options;
   const TerrainCorrection ours =
       ComputeTerrainCorrection(*dem, s ? &*s : nullptr, mark, tc_options);

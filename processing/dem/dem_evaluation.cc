@@ -19,10 +19,11 @@ double DemCoverage(const Raster& dem, const Eigen::Vector2d& station_xy, double 
 }
 
 DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
-                          const Eigen::Vector2d& station_xy) {
+                          const Eigen::Vector2d& station_xy, const Raster* std_dev) {
   DemEvaluation e;
   std::vector<double> abs_errors;
-  double sum = 0.0, sum2 = 0.0;
+  double sum = 0.0, sum2 = 0.0, ratio2 = 0.0;
+  int with_std = 0, within = 0;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       if (Raster::IsNoData(dem.at(r, c))) continue;
@@ -31,6 +32,12 @@ DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
       const double d = dem.at(r, c) - truth;
       sum += d, sum2 += d * d;
       abs_errors.push_back(std::abs(d));
+      const float s = std_dev ? std_dev->at(r, c) : Raster::kNoData;
+      if (!Raster::IsNoData(s) && s > 0.0f) {
+        ++with_std;
+        ratio2 += (d / s) * (d / s);
+        within += std::abs(d) <= 2.0 * s;
+      }
     }
   e.cells_compared = static_cast<int>(abs_errors.size());
   if (!abs_errors.empty()) {
@@ -40,6 +47,10 @@ DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
     std::sort(abs_errors.begin(), abs_errors.end());
     e.p95_abs_m = abs_errors[std::min(abs_errors.size() - 1, static_cast<size_t>(0.95 * n))];
     e.max_abs_m = abs_errors.back();
+  }
+  if (with_std > 0) {
+    e.std_ratio_rms = std::sqrt(ratio2 / with_std);
+    e.within_2std = static_cast<double>(within) / with_std;
   }
   e.coverage_30m = DemCoverage(dem, station_xy, 30.0);
   e.coverage_square = DemCoverage(dem, station_xy, 0.0);
@@ -53,7 +64,9 @@ nlohmann::json DemEvaluation::ToJson() const {
           {"dem_max_abs_m", max_abs_m},
           {"coverage_30m", coverage_30m},
           {"coverage_60m_square", coverage_square},
-          {"cells_compared", cells_compared}};
+          {"cells_compared", cells_compared},
+          {"std_ratio_rms", std::isfinite(std_ratio_rms) ? nlohmann::json(std_ratio_rms) : nullptr},
+          {"within_2std", std::isfinite(within_2std) ? nlohmann::json(within_2std) : nullptr}};
 }
 
 }  // namespace ts

@@ -107,8 +107,11 @@ void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel&
         FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, &near);
         if (near.empty() || near.front().distance > o.max_distance_m) continue;
         const int n = static_cast<int>(near.size());
-        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + 1, n + 1);
-        Eigen::VectorXd b(n + 1);
+        // Local linear drift (universal kriging) where the points allow: a gap on a slope is
+        // bridged along the slope, not levelled towards the neighbours' mean.
+        const int drift = (o.linear_drift && n >= 6) ? 3 : 1;
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + drift, n + drift);
+        Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
         for (int i = 0; i < n; ++i) {
           const Eigen::Vector3d& p = points[near[i].index];
           a(i, i) = model.Sill();
@@ -117,10 +120,14 @@ void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel&
             a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));
           }
           a(i, n) = a(n, i) = 1.0;
+          if (drift == 3) {
+            a(i, n + 1) = a(n + 1, i) = p.x() - x;
+            a(i, n + 2) = a(n + 2, i) = p.y() - y;
+          }
           b[i] = model.SignalCovariance(near[i].distance);
         }
         b[n] = 1.0;
-        const Eigen::VectorXd solution = a.partialPivLu().solve(b);
+        const Eigen::VectorXd solution = a.fullPivLu().solve(b);
         if (!solution.allFinite()) continue;
         double z = 0.0;
         for (int i = 0; i < n; ++i) z += solution[i] * points[near[i].index].z();

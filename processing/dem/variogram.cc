@@ -6,6 +6,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "processing/cloud/grid_index.h"
+
 namespace ts {
 
 bool VariogramOptions::Check(std::string* why) const {
@@ -16,6 +18,10 @@ bool VariogramOptions::Check(std::string* why) const {
     err = "max_lag_m must exceed bin_m";
   else if (max_points < 3)
     err = "max_points must be at least 3";
+  else if (!(short_lag_m >= 0.0 && short_lag_m < max_lag_m))
+    err = "short_lag_m must be in [0, max_lag_m)";
+  else if (short_lag_m > 0.0 && !(short_bin_m > 0.0 && short_bin_m <= short_lag_m))
+    err = "short_bin_m must be in (0, short_lag_m]";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -32,19 +38,44 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
     std::shuffle(sample.begin(), sample.end(), rng);
     sample.resize(o.max_points);
   }
-  const int bins = static_cast<int>(std::ceil(o.max_lag_m / o.bin_m));
+  // Bins: short_bin_m wide below short_lag_m, bin_m wide from there to max_lag_m.
+  const int short_bins =
+      o.short_lag_m > 0.0 ? static_cast<int>(std::ceil(o.short_lag_m / o.short_bin_m - 1e-9)) : 0;
+  const int bins =
+      short_bins + static_cast<int>(std::ceil((o.max_lag_m - o.short_lag_m) / o.bin_m - 1e-9));
   std::vector<double> sum_h(bins, 0.0), sum_sq(bins, 0.0), count(bins, 0.0);
+  auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+    const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
+    if (!(h < o.max_lag_m) || h == 0.0) return;
+    const int bin =
+        h < o.short_lag_m
+            ? std::min(short_bins - 1, static_cast<int>(h / o.short_bin_m))
+            : std::min(bins - 1, short_bins + static_cast<int>((h - o.short_lag_m) / o.bin_m));
+    sum_h[bin] += h;
+    sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
+    count[bin] += 1.0;
+  };
   for (size_t a = 0; a < sample.size(); ++a)
     for (size_t b = a + 1; b < sample.size(); ++b) {
       const Eigen::Vector3d& p = points[sample[a]];
       const Eigen::Vector3d& q = points[sample[b]];
-      const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
-      if (!(h < o.max_lag_m)) continue;
-      const int bin = static_cast<int>(h / o.bin_m);
-      sum_h[bin] += h;
-      sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
-      count[bin] += 1.0;
+      if (std::hypot(p.x() - q.x(), p.y() - q.y()) >= o.short_lag_m) add(p, q);
     }
+  if (short_bins > 0 && !points.empty()) {
+    const GridIndex grid(points, o.short_lag_m);
+    for (int a : sample) {
+      const Eigen::Vector3d& p = points[a];
+      const int c0 = grid.ColOf(p.x()), r0 = grid.RowOf(p.y());
+      for (int r = r0 - 1; r <= r0 + 1; ++r)
+        for (int c = c0 - 1; c <= c0 + 1; ++c) {
+          if (!grid.Inside(c, r)) continue;
+          for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
+            if (*i != a &&
+                std::hypot(points[*i].x() - p.x(), points[*i].y() - p.y()) < o.short_lag_m)
+              add(p, points[*i]);
+        }
+    }
+  }
   ExperimentalVariogram v;
   for (int i = 0; i < bins; ++i) {
     if (count[i] < 1.0) continue;
@@ -136,10 +167,17 @@ VariogramModel FitVariogram(const ExperimentalVariogram& e, VariogramKind kind) 
   return best;
 }
 
+// A Gaussian model with (almost) no nugget claims a surface smooth at every scale: kriging
+// systems near singular, a std far too small and overshoot where it extrapolates. Measured on
+// the simulator with short-lag bins, where it fitted best with nugget/sill ~1e-4: true DEM
+// error / kriging std 4.6-17 (spherical: 0.4-3.2), forest RMSE 0.63 m (spherical 0.52 m).
+constexpr double kMinGaussianNuggetShare = 0.01;
+
 VariogramModel FitVariogram(const ExperimentalVariogram& e) {
   VariogramModel best = FitVariogram(e, VariogramKind::kSpherical);
   for (VariogramKind kind : {VariogramKind::kExponential, VariogramKind::kGaussian}) {
     const VariogramModel m = FitVariogram(e, kind);
+    if (kind == VariogramKind::kGaussian && m.nugget < kMinGaussianNuggetShare * m.Sill()) continue;
     if (m.fit_error < best.fit_error) best = m;
   }
   return best;

@@ -60,7 +60,7 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   const ProcessResult r = ProcessStation(station_dir, process).value();
   const Raster truth = ReadGeoTiff(truth_dir + "/dem.tif").value();
   const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();
-  const DemEvaluation e = EvaluateDem(r.dem, truth, mark);
+  const DemEvaluation e = EvaluateDem(r.dem, truth, mark, &r.dem_std);
 
   // Nearest neighbour (kriging with one neighbour) on the same thinned ground points.
   std::vector<Eigen::Vector3d> ground;
@@ -80,6 +80,9 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   table->Add({s + "DEM RMSE (nearest neighbour)", n.rmse_m, "m", ""});
   table->Add({s + "DEM bias", e.bias_m, "m", ""});
   table->Add({s + "DEM p95 |error|", e.p95_abs_m, "m", ""});
+  // How honest the kriging std is (1: exactly; objects left as ground make it too small).
+  table->Add({s + "DEM RMS of error / kriging std", e.std_ratio_rms, "", ""});
+  table->Add({s + "DEM cells with |error| <= 2 std", e.within_2std, "", ""});
   table->Add({s + "coverage within 30 m", e.coverage_30m, "", ">= 0.95", e.coverage_30m >= 0.95});
   table->Add({s + "coverage of the 60 m square", e.coverage_square, "", ">= 0.85",
               e.coverage_square >= 0.85});

@@ -55,6 +55,24 @@ TEST(Kriging, HonoursDataAndReproducesAPlane) {
   EXPECT_NEAR(s.at(0, 0), 0.0, 2e-3);
 }
 
+// Points on one side only of a cell on a 30 % slope (the far side of a gap): the linear drift
+// carries the slope into the gap, ordinary kriging levels towards the neighbours' mean; the
+// kriging std with drift grows as the cell gets farther from the data.
+TEST(Kriging, LinearDriftBridgesAGapOnASlope) {
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -10; x <= 0; x += 0.5)
+    for (double y = -5; y <= 5; y += 0.5) points.emplace_back(x, y, 0.3 * x);
+  KrigingOptions o;
+  o.max_distance_m = 10.0;
+  Raster dem = Raster::Make(0.0, 0.5, 1.0, 4, 1), s;  // cells at x = 0.5, 1.5, 2.5, 3.5
+  KrigeOnto(points, Linearish(), o, &dem, &s);
+  for (int c = 0; c < 4; ++c) EXPECT_NEAR(dem.at(0, c), 0.3 * dem.CellCentreX(c), 1e-3) << c;
+  for (int c = 1; c < 4; ++c) EXPECT_GT(s.at(0, c), s.at(0, c - 1));
+  o.linear_drift = false;
+  KrigeOnto(points, Linearish(), o, &dem, &s);
+  EXPECT_LT(dem.at(0, 3), 0.3 * 3.5 - 0.5);
+}
+
 TEST(Kriging, CellsFarFromEveryPointAreNodata) {
   Raster dem = Raster::Make(0, 10, 1.0, 10, 1), std_dev;
   KrigingOptions o;

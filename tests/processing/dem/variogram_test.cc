@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace ts {
 namespace {
 
@@ -12,14 +14,61 @@ TEST(Variogram, ExperimentalOfALinearRampIsHalfTheSquaredLag) {
   VariogramOptions o;
   o.bin_m = 1.0;
   o.max_lag_m = 10.0;
+  o.short_lag_m = 2.0;
+  o.short_bin_m = 0.25;
   const ExperimentalVariogram v = ComputeExperimentalVariogram(points, o);
-  ASSERT_EQ(v.lag_m.size(), 10u);
+  // 0.25 m bins up to 2 m, then 1 m bins up to 10 m.
+  std::vector<double> lower;
+  for (int i = 0; i < 8; ++i) lower.push_back(0.25 * i);
+  for (int i = 2; i < 10; ++i) lower.push_back(i);
+  ASSERT_EQ(v.lag_m.size(), lower.size());
   for (size_t i = 0; i < v.lag_m.size(); ++i) {
-    EXPECT_GE(v.lag_m[i], static_cast<double>(i));
-    EXPECT_LT(v.lag_m[i], i + 1.0);
-    EXPECT_GT(v.gamma[i], 0.5 * v.lag_m[i] * v.lag_m[i]);  // mean of h^2 exceeds mean(h)^2
+    const double width = i < 8 ? 0.25 : 1.0;
+    EXPECT_GE(v.lag_m[i], lower[i] - 1e-9);
+    EXPECT_LT(v.lag_m[i], lower[i] + width);
+    EXPECT_GE(v.gamma[i], 0.5 * v.lag_m[i] * v.lag_m[i] - 1e-9);  // mean h^2 >= mean(h)^2
     EXPECT_LT(v.gamma[i], 0.5 * v.lag_m[i] * v.lag_m[i] + 0.05);
   }
+}
+
+// With a sparse subsample, the short lags still come from every point near each sampled one.
+TEST(Variogram, ShortLagsPairTheSampleWithAllItsNeighbours) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 400; ++i) points.emplace_back(0.1 * i, 0.0, 0.1 * i);
+  VariogramOptions o;
+  o.max_points = 20;
+  o.max_lag_m = 20.0;
+  o.short_lag_m = 1.0;
+  o.short_bin_m = 0.25;
+  const ExperimentalVariogram with_short = ComputeExperimentalVariogram(points, o);
+  o.short_lag_m = 0.0;
+  const ExperimentalVariogram without = ComputeExperimentalVariogram(points, o);
+  ASSERT_FALSE(with_short.lag_m.empty());
+  // First bin, lags 0.1 and 0.2 m: up to 4 neighbours for each of the 20 sampled points.
+  EXPECT_LT(with_short.lag_m[0], 0.25);
+  EXPECT_GE(with_short.pairs[0], 60.0);
+  EXPECT_NEAR(with_short.gamma[0], 0.5 * (0.01 + 0.04) / 2, 1e-3);
+  auto close_pairs = [](const ExperimentalVariogram& v) {
+    double n = 0.0;
+    for (size_t i = 0; i < v.lag_m.size(); ++i) n += v.lag_m[i] < 1.0 ? v.pairs[i] : 0.0;
+    return n;
+  };
+  // 20 sampled points along 40 m: a handful of pairs closer than 1 m among themselves.
+  EXPECT_GT(close_pairs(with_short), 10.0 * close_pairs(without));
+}
+
+// A Gaussian model without a nugget is not chosen even where it would fit best.
+TEST(Variogram, GaussianWithoutNuggetIsNotChosen) {
+  ExperimentalVariogram e;
+  for (double h = 0.125; h < 20.0; h += 0.25) {
+    e.lag_m.push_back(h);
+    e.gamma.push_back(1.0 - std::exp(-3.0 * h * h / 100.0));  // Gaussian, range 10 m, no nugget
+    e.pairs.push_back(100.0);
+  }
+  EXPECT_EQ(FitVariogram(e, VariogramKind::kGaussian).kind, VariogramKind::kGaussian);
+  EXPECT_LT(FitVariogram(e, VariogramKind::kGaussian).fit_error,
+            FitVariogram(e, VariogramKind::kSpherical).fit_error);
+  EXPECT_NE(FitVariogram(e).kind, VariogramKind::kGaussian);
 }
 
 ExperimentalVariogram FromModel(const VariogramModel& m) {
