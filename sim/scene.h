@@ -34,10 +34,23 @@ struct Lighting {
   double direct = 0.65;
 };
 
+// A subsidence bowl that formed between two epochs: the ground sinks by
+// depth * (1 + cos(pi r / radius)) / 2 within `radius` of the centre (a raised-cosine bowl:
+// smooth, compact, with a closed-form volume (1/2 - 2/pi^2) pi depth radius^2).
+struct Subsidence {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+  double depth_m = 0.0;
+  double LoweringAt(double x_m, double y_m) const;
+  double Volume() const;
+};
+
 struct Scene {
   std::string name;
   uint64_t seed = 0;
-  double stage_height_m = 1.5;  // h: stage centre above the station mark
+  int epoch = 1;  // a later survey of the same site: the same ground, new sensor noise
+  std::vector<Subsidence> subsidence;  // applied to heights and objects since epoch 1
+  double stage_height_m = 1.5;         // h: stage centre above the station mark
   // Height lattice: heights[iy * n + ix] at x = -half_extent_m + ix * spacing_m (same for y).
   double half_extent_m = 60.0;
   double spacing_m = 0.25;
@@ -64,6 +77,12 @@ Result<Scene> MakeBuiltinScene(const std::string& name, uint64_t seed);
 // Terrain from any GeoTIFF DEM, centred on the DEM's centre (the station), re-levelled so the
 // ground at the station is at -stage_height_m. No objects.
 Result<Scene> MakeSceneFromDem(const std::string& dem_file, uint64_t seed);
+
+// Sinks the ground (lattice and the objects standing on it) by the bowl; an error if the bowl
+// reaches the station mark, to which the station frame is tied.
+Status ApplySubsidence(Scene* scene, const Subsidence& bowl);
+// The sun at an azimuth (degrees clockwise from north = +Y) and elevation above the horizon.
+Status SetSun(Scene* scene, double azimuth_deg, double elevation_deg);
 
 // Fills the lattice from a height function H(x, y) and shifts it so H(0, 0) = -stage height.
 template <typename HeightFn>

@@ -14,7 +14,12 @@ namespace ts::sim {
 
 bool SimStationOptions::Check(std::string* why) const {
   std::string err;
-  if (!(stage_height_m >= 0.3 && stage_height_m <= 5.0)) err = "stage height must be in [0.3, 5] m";
+  if (!(stage_height_m >= 0.3 && stage_height_m <= 5.0))
+    err = "stage height must be in [0.3, 5] m";
+  else if (epoch < 1)
+    err = "epoch must be 1 or more";
+  else if (!sun_deg.empty() && sun_deg.size() != 2)
+    err = "sun must be AZIMUTH,ELEVATION (degrees)";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -54,6 +59,13 @@ Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOption
     }
     station->scene.stage_height_m = options.stage_height_m;
   }
+  station->scene.epoch = options.epoch;
+  for (const Subsidence& bowl : options.subsidence)
+    if (Status s = ApplySubsidence(&station->scene, bowl); !s)
+      return Error{"simulated station: " + s.error()};
+  if (!options.sun_deg.empty())
+    if (Status s = SetSun(&station->scene, options.sun_deg[0], options.sun_deg[1]); !s)
+      return Error{"simulated station: " + s.error()};
   station->mesh = BuildSceneMesh(station->scene);
   station->rig = MakeSimRig(options.seed, options.stage_height_m);
   return std::shared_ptr<const SimStation>(std::move(station));
@@ -66,7 +78,11 @@ cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRe
   const CameraModel camera(intrinsics);
   const Eigen::Isometry3d pose = station.rig.truth.LFromCamera(r.side, r.pan_deg, r.tilt_deg);
   const cv::Mat radiance = renderer.Render(camera, pose, r.render, range_m);
-  const uint64_t noise_seed = Hash(station.scene.seed, r.side == Side::kLeft ? 1 : 2,
+  // Epoch 1 keeps the seed of the scene, so its images are those of every earlier version.
+  const uint64_t epoch_seed = station.scene.epoch == 1
+                                  ? station.scene.seed
+                                  : Hash(station.scene.seed, 0xe90c, station.scene.epoch);
+  const uint64_t noise_seed = Hash(epoch_seed, r.side == Side::kLeft ? 1 : 2,
                                    std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
   return ExposeImage(radiance, intrinsics, station.rig.sensor(r.side), r.exposure_us, r.gain_db,
                      r.format, noise_seed);

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "processing/common/result.h"
 #include "processing/geometry/capture_plan.h"
@@ -21,6 +22,11 @@ struct SimStationOptions {
   std::string dem_file;         // any GeoTIFF DEM as terrain
   uint64_t seed = 1;
   double stage_height_m = 1.5;
+  // A later epoch of the same site (same ground texture and rig, new sensor noise), where the
+  // ground may have sunk in bowls and the sun may stand elsewhere.
+  int epoch = 1;
+  std::vector<Subsidence> subsidence;
+  std::vector<double> sun_deg;  // empty: the scene's sun; else {azimuth, elevation}
   bool Check(std::string* why) const;
 };
 

@@ -66,6 +66,26 @@ Status WriteTruthDirectory(const Scene& scene, const SimRig& rig, const std::str
         {"dem_fine", "dem_fine.tif"},
         {"objects", "objects.tif"},
         {"calibration", "calibration.yaml"}}}};
+  truth["epoch"] = scene.epoch;
+  if (!scene.subsidence.empty()) {
+    // The true change since epoch 1, both in closed form and as the rendered (triangulated
+    // lattice) surface has it: the sum of the node lowerings times the node area.
+    nlohmann::json bowls = nlohmann::json::array();
+    for (const Subsidence& b : scene.subsidence) {
+      double lattice_volume = 0.0;
+      for (int iy = 0; iy < scene.n; ++iy)
+        for (int ix = 0; ix < scene.n; ++ix)
+          lattice_volume += b.LoweringAt(scene.LatticeX(ix), scene.LatticeX(iy));
+      lattice_volume *= scene.spacing_m * scene.spacing_m;
+      bowls.push_back({{"centre_l", {b.centre_m.x(), b.centre_m.y()}},
+                       {"radius_m", b.radius_m},
+                       {"max_depth_m", b.depth_m},
+                       {"volume_m3", lattice_volume},
+                       {"volume_closed_form_m3", b.Volume()},
+                       {"profile", "depth * (1 + cos(pi r / radius)) / 2"}});
+    }
+    truth["subsidence"] = bowls;
+  }
   if (extra.is_object()) truth.update(extra);
   return WriteFileAtomically((d / "truth.json").string(), truth.dump(2) + "\n");
 }

@@ -11,6 +11,7 @@
 #include "sim/sim_station.h"
 #include "sim/truth.h"
 #include "station/commands.h"
+#include "station/sim_station_options.h"
 
 namespace ts {
 namespace {
@@ -21,12 +22,7 @@ struct SceneArgs {
 };
 
 void AddSceneOptions(CLI::App* cmd, SceneArgs* args) {
-  cmd->add_option("--scene", args->station.scene,
-                  "built-in scene: flat, hills, slope, rough, forest (default hills)");
-  cmd->add_option("--dem", args->station.dem_file, "GeoTIFF DEM as terrain instead of a scene");
-  cmd->add_option("--seed", args->station.seed, "scene and rig seed (default 1)");
-  cmd->add_option("--height-m", args->station.stage_height_m,
-                  "stage centre above the station mark (default 1.5)");
+  AddSimStationOptions(cmd, &args->station);
   cmd->add_option("--truth", args->truth_dir, "ground-truth directory")->required();
 }
 

@@ -15,6 +15,7 @@
 #include "sim/truth.h"
 #include "station/commands.h"
 #include "station/private_network.h"
+#include "station/sim_station_options.h"
 
 namespace ts {
 namespace {
@@ -102,10 +103,7 @@ void AddSurveyCommand(CLI::App& app) {
   CLI::App* s = app.add_subcommand(
       "survey", "Capture and process a station end to end (--sim: on the simulated station)");
   s->add_flag("--sim", args->sim, "survey the simulated station");
-  s->add_option("--scene", args->station.scene,
-                "built-in scene: flat, hills, slope, rough, forest (default hills)");
-  s->add_option("--dem", args->station.dem_file, "GeoTIFF DEM as terrain instead of a scene");
-  s->add_option("--seed", args->station.seed, "scene and rig seed (default 1)");
+  AddSimStationOptions(s, &args->station);
   s->add_option("--out", args->out, "station directory to create")->required();
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
   s->add_option("--exposure-us", args->exposure_us, "starting exposure (default 4000)");
