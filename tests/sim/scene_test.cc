@@ -119,3 +119,50 @@ TEST(Scene, TerrainFromAGeoTiffDem) {
 
 }  // namespace
 }  // namespace ts::sim
+
+namespace ts::sim {
+namespace {
+
+// A later epoch: the ground sinks by exactly the raised-cosine bowl, objects on it with it,
+// and the lattice holds the closed-form volume.
+TEST(SceneEpoch, SubsidenceBowlLowersTheGroundByItsProfile) {
+  Scene before = MakeBuiltinScene("forest", 3).value();
+  Scene after = before;
+  Subsidence bowl;
+  bowl.centre_m = {12.0, -8.0};
+  bowl.radius_m = 6.0;
+  bowl.depth_m = 0.7;
+  ASSERT_TRUE(ApplySubsidence(&after, bowl));
+  EXPECT_NEAR(after.TerrainHeight(12.0, -8.0), before.TerrainHeight(12.0, -8.0) - 0.7, 1e-5);
+  EXPECT_NEAR(after.TerrainHeight(15.0, -8.0), before.TerrainHeight(15.0, -8.0) - 0.35, 1e-5);
+  EXPECT_EQ(after.TerrainHeight(19.0, -8.0), before.TerrainHeight(19.0, -8.0));
+  EXPECT_EQ(after.TerrainHeight(0.0, 0.0), before.TerrainHeight(0.0, 0.0));
+  double volume = 0.0;
+  for (int iy = 0; iy < after.n; ++iy)
+    for (int ix = 0; ix < after.n; ++ix) volume += before.lattice(ix, iy) - after.lattice(ix, iy);
+  volume *= after.spacing_m * after.spacing_m;
+  EXPECT_NEAR(volume, bowl.Volume(), 0.002 * bowl.Volume());
+  EXPECT_NEAR(bowl.Volume(), (0.5 - 2.0 / (M_PI * M_PI)) * M_PI * 0.7 * 36.0, 1e-12);
+  for (size_t i = 0; i < after.objects.size(); ++i)
+    EXPECT_NEAR(before.objects[i].ground.z() - after.objects[i].ground.z(),
+                bowl.LoweringAt(after.objects[i].ground.x(), after.objects[i].ground.y()), 1e-9);
+  ASSERT_EQ(after.subsidence.size(), 1u);
+
+  bowl.centre_m = {4.0, 0.0};  // reaches within 1 m of the mark
+  EXPECT_FALSE(ApplySubsidence(&after, bowl));
+  bowl.centre_m = {30.0, 0.0};
+  bowl.depth_m = -1.0;
+  EXPECT_FALSE(ApplySubsidence(&after, bowl));
+}
+
+TEST(SceneEpoch, SunFromAzimuthAndElevation) {
+  Scene s = MakeBuiltinScene("flat", 1).value();
+  ASSERT_TRUE(SetSun(&s, 90.0, 30.0));  // east, 30 degrees up
+  EXPECT_NEAR(s.lighting.to_sun.x(), std::cos(M_PI / 6), 1e-12);
+  EXPECT_NEAR(s.lighting.to_sun.y(), 0.0, 1e-12);
+  EXPECT_NEAR(s.lighting.to_sun.z(), 0.5, 1e-12);
+  EXPECT_FALSE(SetSun(&s, 0.0, 2.0));
+}
+
+}  // namespace
+}  // namespace ts::sim

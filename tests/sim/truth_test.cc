@@ -61,6 +61,50 @@ TEST(Truth, DirectoryHoldsTheSceneTheRigAndTheRightGrids) {
                   .isApprox(station->rig.truth.LFromCamera(Side::kRight, 33, -12).matrix(), 1e-12));
 }
 
+// A later epoch: the truth records the bowls; the frames differ only by sensor noise where
+// the ground did not move (same texture, same rig, same light unless asked).
+TEST(Truth, LaterEpochRecordsItsSubsidenceAndKeepsTheScene) {
+  SimStationOptions options;
+  options.scene = "flat";
+  const auto first = *BuildSimStation(options);
+  options.epoch = 2;
+  Subsidence bowl;
+  bowl.centre_m = {0.0, 15.0};
+  bowl.radius_m = 5.0;
+  bowl.depth_m = 0.4;
+  options.subsidence = {bowl};
+  const auto second = *BuildSimStation(options);
+  testing::TempDir dir;
+  ASSERT_TRUE(WriteTruthDirectory(second->scene, second->rig, dir / "truth").ok());
+  std::ifstream in(dir / "truth/truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(in);
+  EXPECT_EQ(truth.at("epoch"), 2);
+  ASSERT_EQ(truth.at("subsidence").size(), 1u);
+  EXPECT_NEAR(truth["subsidence"][0]["volume_m3"].get<double>(), bowl.Volume(),
+              0.002 * bowl.Volume());
+  EXPECT_DOUBLE_EQ(truth["subsidence"][0]["max_depth_m"].get<double>(), 0.4);
+
+  // Looking away from the bowl (pan 180: -Y), the two epochs see the same radiance.
+  Renderer r1(first->scene, first->mesh), r2(second->scene, second->mesh);
+  FrameRequest request;
+  request.pan_deg = 180.0;
+  request.tilt_deg = -20.0;
+  request.render.supersampling = 1;
+  const cv::Mat a = RenderFrame(r1, *first, request), b = RenderFrame(r2, *second, request);
+  cv::Mat diff;
+  cv::absdiff(a, b, diff);
+  EXPECT_GT(cv::countNonZero(diff), 0);  // new noise
+  EXPECT_LT(cv::mean(diff)[0], 3.0);     // nothing else
+  // Looking at it (pan 0), the sunk ground shows.
+  request.pan_deg = 0.0;
+  request.tilt_deg = -5.0;
+  cv::Mat range1, range2;
+  RenderFrame(r1, *first, request, &range1);
+  RenderFrame(r2, *second, request, &range2);
+  cv::Mat longer = range2 > range1 + 0.01f;
+  EXPECT_GT(cv::countNonZero(longer), 1000);
+}
+
 TEST(SimRig, TruthIsImperfectAndNominalKnowsOnlyTheDesign) {
   const SimRig rig = MakeSimRig(5, 1.5);
   EXPECT_NE(rig.truth.rig.left.k1, 0.0);
