@@ -6,14 +6,13 @@
 #include <opencv2/core.hpp>
 
 #include "processing/io/raster.h"
+#include "processing/products/map_drawing.h"
 
 namespace ts {
 
 struct DemImageOptions {
   int pixels_per_cell = 8;
-  double sun_azimuth_deg = 315.0;  // clockwise from north
-  double sun_elevation_deg = 45.0;
-  double vertical_exaggeration = 2.0;
+  HillshadeOptions shade;
 };
 
 // station_xy_m: where to draw the station marker, in the raster's coordinates. BGR, 8 bit.
