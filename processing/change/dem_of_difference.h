@@ -1,0 +1,92 @@
+#pragma once
+// The DEM of difference between two survey epochs (seed 002; the level of detection of
+// Wheaton et al. 2010, Earth Surf. Process. Landforms 35:136): dz = after - before per cell
+// on the grid of `before`, sigma = sqrt(std_before^2 + std_after^2), the cells whose change is
+// significant, and what a deformation survey reports from them: areas and volumes of lowering
+// and raising with their errors, the net volume, the deepest subsidence with its sigma and
+// position, and the connected subsidence regions with their outlines.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "processing/common/result.h"
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct DemEpoch {
+  std::string name;  // the file, for messages
+  Raster dem;
+  std::optional<Raster> std_dev;  // standard deviation per cell, on the DEM's grid
+};
+
+struct ChangeOptions {
+  // > 0: a fixed level of detection, |dz| >= lod_m is significant. 0: the per-cell t-test
+  // |dz| / sigma >= t_critical (needs both std grids).
+  double lod_m = 0.0;
+  double t_critical = 1.96;         // 95 %, two-sided
+  double min_region_area_m2 = 4.0;  // smaller subsidence regions are counted, not listed
+  bool Check(std::string* why) const;
+};
+
+// Significant cells of one sign. Volumes and their errors are positive magnitudes.
+struct ChangeVolume {
+  int cells = 0;
+  double area_m2 = 0.0;
+  double volume_m3 = 0.0;
+  double sigma_m3 = 0.0;             // cell errors independent
+  double sigma_correlated_m3 = 0.0;  // cell errors fully correlated: the upper bound
+  // Adds a cell of change |dz| with its sigma; sigma_m3 holds the variance until Finish().
+  void AddCell(double abs_dz_m, double sigma_m, double cell_area_m2);
+  void Finish();
+};
+
+// A connected (8-neighbour) area of significant lowering.
+struct SubsidenceRegion {
+  int id = 0;  // 1, 2, ... by volume, largest first
+  ChangeVolume lowering;
+  double max_depth_m = 0.0;  // deepest cell, positive down
+  double max_depth_sigma_m = 0.0;
+  Eigen::Vector2d deepest_xy_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d centroid_xy_m = Eigen::Vector2d::Zero();  // depth-weighted
+  // Outline along cell edges in the grid's coordinates: exterior ring(s) then holes, each
+  // closed (first point repeated last), as GDAL's polygonizer traces them.
+  std::vector<std::vector<Eigen::Vector2d>> exterior_rings;
+  std::vector<std::vector<Eigen::Vector2d>> hole_rings;
+};
+
+// The values of ChangeResult::change_class.
+constexpr float kSignificantLowering = -1.0f;
+constexpr float kBelowDetection = 0.0f;
+constexpr float kSignificantRaising = 1.0f;
+
+struct ChangeResult {
+  Raster dod;                    // after - before, m; nodata where either epoch has none
+  Raster dod_std;                // sigma of dz, m
+  Raster change_class;           // k*Lowering/Detection/Raising per compared cell, nodata elsewhere
+  bool after_resampled = false;  // `after` was on another grid: bilinear onto `before`'s
+  bool sigma_from_lod = false;   // no std grids: sigma = lod / t_critical everywhere
+  int cells_compared = 0;
+  double area_compared_m2 = 0.0;
+  double compared_fraction_before = 0.0;  // of the cells with data in each epoch
+  double compared_fraction_after = 0.0;
+  ChangeVolume lowering, raising;
+  double net_volume_m3 = 0.0;  // raising - lowering, over the significant cells
+  double net_sigma_m3 = 0.0;
+  // The deepest significant lowering (positive down), if there is any.
+  std::optional<double> max_subsidence_m;
+  double max_subsidence_sigma_m = 0.0;
+  Eigen::Vector2d max_subsidence_xy_m = Eigen::Vector2d::Zero();
+  std::vector<SubsidenceRegion> regions;
+  // Median dz over the cells below detection: ~0 unless the epochs' height datums differ.
+  double stable_median_m = 0.0;
+  std::vector<std::string> warnings;
+};
+
+// Errors (one line naming the epoch's file): different CRS, grids that do not overlap or share
+// no cell with data, a std grid not on its DEM's grid, no std grid without a fixed LoD.
+Result<ChangeResult> ComputeDemOfDifference(const DemEpoch& before, const DemEpoch& after,
+                                            const ChangeOptions& options = {});
+
+}  // namespace ts

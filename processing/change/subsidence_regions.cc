@@ -1,0 +1,118 @@
+#include "processing/change/subsidence_regions.h"
+
+#include <gdal_alg.h>
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+
+namespace ts {
+namespace {
+
+struct GdalDatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+using DatasetPtr = std::unique_ptr<GDALDataset, GdalDatasetCloser>;
+
+std::vector<Eigen::Vector2d> RingPoints(const OGRLinearRing* ring) {
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < ring->getNumPoints(); ++i) points.emplace_back(ring->getX(i), ring->getY(i));
+  return points;
+}
+
+// Traces the outline of every labelled region (labels > 0) along cell edges; rings by label.
+void TraceOutlines(const cv::Mat& labels, const Raster& grid,
+                   std::map<int, SubsidenceRegion*>* by_label) {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  GDALDriver* memory = GetGDALDriverManager()->GetDriverByName("Memory");
+  if (!mem || !memory) return;  // both are built into every GDAL
+  DatasetPtr raster(mem->Create("", grid.cols, grid.rows, 1, GDT_Int32, nullptr));
+  DatasetPtr vector(memory->Create("", 0, 0, 0, GDT_Unknown, nullptr));
+  if (!raster || !vector) return;
+  double transform[6] = {grid.min_x_m, grid.cell_m, 0.0, grid.max_y_m, 0.0, -grid.cell_m};
+  raster->SetGeoTransform(transform);
+  GDALRasterBand* band = raster->GetRasterBand(1);
+  cv::Mat data = labels.isContinuous() ? labels : labels.clone();
+  if (band->RasterIO(GF_Write, 0, 0, grid.cols, grid.rows, data.ptr<int32_t>(), grid.cols,
+                     grid.rows, GDT_Int32, 0, 0) != CE_None)
+    return;
+  OGRLayer* layer = vector->CreateLayer("regions", nullptr, wkbPolygon, nullptr);
+  OGRFieldDefn field("label", OFTInteger);
+  if (!layer || layer->CreateField(&field) != OGRERR_NONE) return;
+  char** options = CSLSetNameValue(nullptr, "8CONNECTED", "8");
+  // The band is its own mask: label 0 (no region) yields no polygon.
+  const CPLErr err = GDALPolygonize(band, band, layer, 0, options, nullptr, nullptr);
+  CSLDestroy(options);
+  if (err != CE_None) return;
+  layer->ResetReading();
+  for (std::unique_ptr<OGRFeature> f(layer->GetNextFeature()); f;
+       f.reset(layer->GetNextFeature())) {
+    const auto it = by_label->find(f->GetFieldAsInteger(0));
+    const OGRGeometry* g = f->GetGeometryRef();
+    if (it == by_label->end() || !g || wkbFlatten(g->getGeometryType()) != wkbPolygon) continue;
+    const OGRPolygon* polygon = g->toPolygon();
+    it->second->exterior_rings.push_back(RingPoints(polygon->getExteriorRing()));
+    for (int i = 0; i < polygon->getNumInteriorRings(); ++i)
+      it->second->hole_rings.push_back(RingPoints(polygon->getInteriorRing(i)));
+  }
+}
+
+}  // namespace
+
+std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
+                                                    double min_area_m2) {
+  const Raster& grid = change.dod;
+  cv::Mat lowering(grid.rows, grid.cols, CV_8UC1, cv::Scalar(0));
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      lowering.at<uint8_t>(r, c) = change.change_class.at(r, c) == kSignificantLowering;
+  cv::Mat labels;
+  const int count = cv::connectedComponents(lowering, labels, 8, CV_32S);
+  const double cell_area = grid.cell_m * grid.cell_m;
+  std::vector<SubsidenceRegion> regions(std::max(0, count - 1));
+  std::vector<double> weight(regions.size(), 0.0);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      const int label = labels.at<int32_t>(r, c);
+      if (label == 0) continue;
+      SubsidenceRegion& region = regions[label - 1];
+      const double depth = -grid.at(r, c), sigma = change.dod_std.at(r, c);
+      const Eigen::Vector2d xy(grid.CellCentreX(c), grid.CellCentreY(r));
+      region.lowering.AddCell(depth, sigma, cell_area);
+      region.centroid_xy_m += depth * xy;
+      weight[label - 1] += depth;
+      if (depth > region.max_depth_m)
+        region.max_depth_m = depth, region.max_depth_sigma_m = sigma, region.deepest_xy_m = xy;
+    }
+  // Keep the regions large enough to list; give the dropped ones label 0 before tracing.
+  std::vector<int> new_label(regions.size() + 1, 0);
+  std::vector<SubsidenceRegion> kept;
+  for (size_t i = 0; i < regions.size(); ++i) {
+    SubsidenceRegion& region = regions[i];
+    if (region.lowering.area_m2 < min_area_m2) continue;
+    region.lowering.Finish();
+    region.centroid_xy_m /= weight[i];
+    region.id = static_cast<int>(i + 1);  // the component's label until renumbered
+    kept.push_back(region);
+  }
+  std::sort(kept.begin(), kept.end(), [](const SubsidenceRegion& a, const SubsidenceRegion& b) {
+    return a.lowering.volume_m3 > b.lowering.volume_m3;
+  });
+  for (size_t i = 0; i < kept.size(); ++i) {
+    new_label[kept[i].id] = static_cast<int>(i + 1);
+    kept[i].id = static_cast<int>(i + 1);
+  }
+  labels.forEach<int32_t>([&](int32_t& label, const int*) { label = new_label[label]; });
+  std::map<int, SubsidenceRegion*> by_label;
+  for (SubsidenceRegion& region : kept) by_label[region.id] = &region;
+  TraceOutlines(labels, grid, &by_label);
+  return kept;
+}
+
+}  // namespace ts
