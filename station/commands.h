@@ -25,6 +25,7 @@ void AddDevicesCommand(CLI::App& app);
 void AddProcessCommands(CLI::App& app);  // process, evaluate, ground-filter
 void AddSurveyCommand(CLI::App& app);
 void AddTerrainCorrectionCommand(CLI::App& app);
+void AddDiffCommand(CLI::App& app);
 
 // Shared by the commands that chain them (survey): each throws CommandError on failure.
 CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& station_dir, bool resume,

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   ts::AddProcessCommands(app);
   ts::AddSurveyCommand(app);
   ts::AddTerrainCorrectionCommand(app);
+  ts::AddDiffCommand(app);
   ts::SetProgramArguments(argc, argv);
   try {
     app.parse(argc, argv);

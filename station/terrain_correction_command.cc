@@ -9,6 +9,7 @@
 #include "processing/io/atomic_file.h"
 #include "processing/io/raster.h"
 #include "station/commands.h"
+#include "station/dem_input.h"
 
 namespace ts {
 namespace {
@@ -25,40 +26,18 @@ struct TerrainCorrectionArgs {
 };
 
 void Run(const TerrainCorrectionArgs& args) {
-  const bool station_dir = std::filesystem::is_directory(args.input);
-  const std::string dem_file = station_dir ? args.input + "/products/dem.tif" : args.input;
-  const Result<Raster> dem = ReadGeoTiff(dem_file);
-  if (!dem) throw CommandError(dem.error() + (station_dir ? " (run `topostation process`)" : ""));
-  Raster std_dev;
-  bool have_std = false;
-  const std::string std_file =
-      station_dir ? args.input + "/products/dem_std.tif"
-                  : std::filesystem::path(dem_file).replace_filename("dem_std.tif").string();
-  if (std::filesystem::exists(std_file)) {
-    Result<Raster> s = ReadGeoTiff(std_file);
-    if (!s) throw CommandError(s.error());
-    if (s->cols != dem->cols || s->rows != dem->rows)
-      throw CommandError(std_file + ": not on the grid of " + dem_file);
-    std_dev = *s, have_std = true;
-  }
+  const DemInput in = LoadDemInput(args.input);
+  const Raster& dem = in.dem;
   Eigen::Vector3d mark;
-  if (station_dir && args.station_xy.empty()) {
-    const std::string report_file = args.input + "/products/report.json";
-    Result<std::string> text = ReadWholeFile(report_file);
-    if (!text) throw CommandError(text.error());
-    const nlohmann::json report = nlohmann::json::parse(*text, nullptr, false);
-    if (report.is_discarded() || !report.contains("station_mark") ||
-        !report["station_mark"].is_array() || report["station_mark"].size() != 3)
-      throw CommandError(report_file + ": station_mark: missing or not [x, y, z]");
-    for (int k = 0; k < 3; ++k) mark[k] = report["station_mark"][k].get<double>();
+  if (in.station_mark && args.station_xy.empty()) {
+    mark = *in.station_mark;
   } else {
     if (args.station_xy.size() != 2)
-      throw CommandError(dem_file + ": a bare DEM needs --station X,Y (the mark's position)");
+      throw CommandError(in.dem_file + ": a bare DEM needs --station X,Y (the mark's position)");
     mark.x() = args.station_xy[0], mark.y() = args.station_xy[1];
-    mark.z() =
-        std::isfinite(args.station_z) ? args.station_z : dem->Interpolate(mark.x(), mark.y());
+    mark.z() = std::isfinite(args.station_z) ? args.station_z : dem.Interpolate(mark.x(), mark.y());
     if (!std::isfinite(mark.z()))
-      throw CommandError(dem_file + ": no height at the station " + std::to_string(mark.x()) +
+      throw CommandError(in.dem_file + ": no height at the station " + std::to_string(mark.x()) +
                          ", " + std::to_string(mark.y()) +
                          " (outside or nodata; give --station-z)");
   }
@@ -69,13 +48,13 @@ void Run(const TerrainCorrectionArgs& args) {
   std::string why;
   if (!o.Check(&why)) throw CommandError("terrain-correction: " + why);
   const TerrainCorrection tc =
-      ComputeTerrainCorrection(*dem, have_std ? &std_dev : nullptr, mark, o);
+      ComputeTerrainCorrection(dem, in.std_dev ? &*in.std_dev : nullptr, mark, o);
   const nlohmann::json j = TerrainCorrectionToJson(tc, o, mark);
   const std::string out =
       !args.out.empty() ? args.out
-      : station_dir
+      : in.station_dir
           ? args.input + "/products/terrain_correction.json"
-          : std::filesystem::path(dem_file).replace_filename("terrain_correction.json").string();
+          : std::filesystem::path(in.dem_file).replace_filename("terrain_correction.json").string();
   if (Status s = WriteFileAtomically(out, j.dump(2) + "\n"); !s) throw CommandError(s.error());
   if (args.json) {
     std::printf("%s\n", j.dump().c_str());

@@ -66,11 +66,10 @@ cv::Mat RenderDodImage(const ChangeResult& change, const Raster* shade_dem,
   if (station_xy_m) DrawStationMarker(&image, dod, k, *station_xy_m);
   char text[200];
   if (scale > 0.0)
-    std::snprintf(text, sizeof text,
-                  "significant lowering red, raising blue (full at %.2f m); grey: below LoD",
+    std::snprintf(text, sizeof text, "red lowering, blue raising (full at %.2f m); grey < LoD",
                   scale);
   else
-    std::snprintf(text, sizeof text, "no significant change (grey: below the LoD)");
+    std::snprintf(text, sizeof text, "no significant change (grey < LoD)");
   DrawScaleBarAndText(&image, dod, k, dod.rows * k + 12, text);
   return image;
 }
