@@ -46,6 +46,7 @@ nlohmann::json Geometry(const SubsidenceRegion& region) {
 nlohmann::json RegionProperties(const SubsidenceRegion& r) {
   return {{"id", r.id},
           {"area_m2", r.lowering.area_m2},
+          {"significant_cells", r.significant_cells},
           {"volume_m3", r.lowering.volume_m3},
           {"sigma_m3", r.lowering.sigma_m3},
           {"sigma_fully_correlated_m3", r.lowering.sigma_correlated_m3},
@@ -126,6 +127,12 @@ nlohmann::json ChangeToJson(const ChangeResult& c, const ChangeOptions& o) {
           {"max_subsidence", max_subsidence},
           {"stable_ground_median_dz_m", c.stable_median_m},
           {"min_region_area_m2", o.min_region_area_m2},
+          {"regions",
+           "significant cores of at least min_region_area_m2, grown into 4-neighbours lowered "
+           "by at least region_grow_t sigma, then ring by ring (up to basin_reach_m) while a "
+           "ring's mean lowering is significant at t_critical; volume: the net lowering over it"},
+          {"region_grow_t", o.region_grow_t},
+          {"basin_reach_m", o.basin_reach_m},
           {"subsidence_regions", regions},
           {"warnings", c.warnings}};
 }

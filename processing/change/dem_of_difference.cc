@@ -54,10 +54,10 @@ double Median(std::vector<float> v) {
 
 }  // namespace
 
-void ChangeVolume::AddCell(double abs_dz_m, double sigma_m, double cell_area_m2) {
+void ChangeVolume::AddCell(double amount_m, double sigma_m, double cell_area_m2) {
   ++cells;
   area_m2 += cell_area_m2;
-  volume_m3 += abs_dz_m * cell_area_m2;
+  volume_m3 += amount_m * cell_area_m2;
   sigma_m3 += sigma_m * cell_area_m2 * sigma_m * cell_area_m2;
   sigma_correlated_m3 += sigma_m * cell_area_m2;
 }
@@ -72,6 +72,10 @@ bool ChangeOptions::Check(std::string* why) const {
     err = "t_critical must be in (0, 10]";
   else if (!(min_region_area_m2 >= 0.0))
     err = "the smallest listed region area must be >= 0 m2";
+  else if (!(region_grow_t >= 0.6 && region_grow_t <= t_critical))
+    err = "region_grow_t must be in [0.6, t_critical] (below 0.6 noise percolates)";
+  else if (!(basin_reach_m >= 0.0 && basin_reach_m <= 100.0))
+    err = "basin_reach_m must be in [0, 100]";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -158,7 +162,7 @@ Result<ChangeResult> ComputeDemOfDifference(const DemEpoch& before, const DemEpo
   out.compared_fraction_before = static_cast<double>(out.cells_compared) / before_cells;
   out.compared_fraction_after = static_cast<double>(out.cells_compared) / after_cells;
   out.stable_median_m = Median(std::move(stable));
-  out.regions = FindSubsidenceRegions(out, o.min_region_area_m2);
+  out.regions = FindSubsidenceRegions(out, o);
 
   char text[240];
   for (const auto& [fraction, name] : {std::pair{out.compared_fraction_before, &before.name},

@@ -5,6 +5,7 @@
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -63,18 +64,79 @@ void TraceOutlines(const cv::Mat& labels, const Raster& grid,
   }
 }
 
+// Rings of cells around each region, for as long as a ring as a whole is lowered
+// significantly (mean lowering >= t_critical x its standard error): the rim where the bowl
+// fades into the noise adds up even where no cell stands out, and noise of either sign
+// averages out. At most basin_reach_m beyond the grown region.
+void ExtendIntoBasins(const ChangeResult& change, const ChangeOptions& o,
+                      const std::vector<int>& keep, cv::Mat* labels) {
+  const Raster& grid = change.dod;
+  const int max_rings = static_cast<int>(std::ceil(o.basin_reach_m / grid.cell_m));
+  cv::Mat valid(grid.rows, grid.cols, CV_8UC1);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) valid.at<uint8_t>(r, c) = !Raster::IsNoData(grid.at(r, c));
+  for (size_t k = 1; k < keep.size(); ++k) {
+    if (!keep[k]) continue;
+    for (int ring = 0; ring < max_rings; ++ring) {
+      const cv::Mat mine = *labels == static_cast<int>(k);
+      cv::Mat grown;
+      cv::dilate(mine, grown, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+      const cv::Mat candidates = grown & ~mine & (*labels == 0) & valid;
+      std::vector<cv::Point> cells;
+      cv::findNonZero(candidates, cells);
+      if (cells.empty()) break;
+      double sum = 0.0, variance = 0.0;
+      for (const cv::Point& p : cells) {
+        sum -= grid.at(p.y, p.x);
+        variance += std::pow(change.dod_std.at(p.y, p.x), 2);
+      }
+      const double n = static_cast<double>(cells.size());
+      if (!(sum / n >= o.t_critical * std::sqrt(variance) / n)) break;
+      for (const cv::Point& p : cells) labels->at<int32_t>(p) = static_cast<int32_t>(k);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
-                                                    double min_area_m2) {
+                                                    const ChangeOptions& o) {
   const Raster& grid = change.dod;
-  cv::Mat lowering(grid.rows, grid.cols, CV_8UC1, cv::Scalar(0));
+  const double cell_area = grid.cell_m * grid.cell_m;
+  cv::Mat core(grid.rows, grid.cols, CV_8UC1, cv::Scalar(0));
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c)
-      lowering.at<uint8_t>(r, c) = change.change_class.at(r, c) == kSignificantLowering;
-  cv::Mat labels;
-  const int count = cv::connectedComponents(lowering, labels, 8, CV_32S);
-  const double cell_area = grid.cell_m * grid.cell_m;
+      core.at<uint8_t>(r, c) = change.change_class.at(r, c) == kSignificantLowering;
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
+  // Cores too small to list are not grown.
+  std::vector<int> keep(count, 0);
+  for (int k = 1; k < count; ++k)
+    keep[k] = stats.at<int32_t>(k, cv::CC_STAT_AREA) * cell_area >= o.min_region_area_m2 ? k : 0;
+  std::deque<cv::Point> frontier;
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) {
+      int32_t& label = labels.at<int32_t>(r, c);
+      label = keep[label];
+      if (label) frontier.emplace_back(c, r);
+    }
+  // Hysteresis: into the 4-neighbours lowered by at least grow_t sigma.
+  while (!frontier.empty()) {
+    const cv::Point p = frontier.front();
+    frontier.pop_front();
+    for (const cv::Point step :
+         {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+      const cv::Point q = p + step;
+      if (q.x < 0 || q.y < 0 || q.x >= grid.cols || q.y >= grid.rows) continue;
+      int32_t& label = labels.at<int32_t>(q);
+      const float dz = grid.at(q.y, q.x);
+      if (label || Raster::IsNoData(dz) || !(-dz >= o.region_grow_t * change.dod_std.at(q.y, q.x)))
+        continue;
+      label = labels.at<int32_t>(p);
+      frontier.push_back(q);
+    }
+  }
+  ExtendIntoBasins(change, o, keep, &labels);
   std::vector<SubsidenceRegion> regions(std::max(0, count - 1));
   std::vector<double> weight(regions.size(), 0.0);
   for (int r = 0; r < grid.rows; ++r)
@@ -85,17 +147,17 @@ std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
       const double depth = -grid.at(r, c), sigma = change.dod_std.at(r, c);
       const Eigen::Vector2d xy(grid.CellCentreX(c), grid.CellCentreY(r));
       region.lowering.AddCell(depth, sigma, cell_area);
+      region.significant_cells += change.change_class.at(r, c) == kSignificantLowering;
       region.centroid_xy_m += depth * xy;
       weight[label - 1] += depth;
       if (depth > region.max_depth_m)
         region.max_depth_m = depth, region.max_depth_sigma_m = sigma, region.deepest_xy_m = xy;
     }
-  // Keep the regions large enough to list; give the dropped ones label 0 before tracing.
   std::vector<int> new_label(regions.size() + 1, 0);
   std::vector<SubsidenceRegion> kept;
   for (size_t i = 0; i < regions.size(); ++i) {
     SubsidenceRegion& region = regions[i];
-    if (region.lowering.area_m2 < min_area_m2) continue;
+    if (!keep[i + 1]) continue;
     region.lowering.Finish();
     region.centroid_xy_m /= weight[i];
     region.id = static_cast<int>(i + 1);  // the component's label until renumbered
