@@ -49,4 +49,22 @@ double PrismDownwardAttraction(const Eigen::Vector3d& lo, const Eigen::Vector3d&
   return kGravitationalConstant * density * sum;
 }
 
+double PrismDownwardAttractionFarField(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                       double density_kg_m3) {
+  // Four vertical line masses at the 2 x 2 Gauss-Legendre points of the cross-section.
+  const double cx = 0.5 * (lo.x() + hi.x()), cy = 0.5 * (lo.y() + hi.y());
+  const double dx = 0.5 * (hi.x() - lo.x()) / std::sqrt(3.0);
+  const double dy = 0.5 * (hi.y() - lo.y()) / std::sqrt(3.0);
+  const double line = kGravitationalConstant * density_kg_m3 * 0.25 * (hi.x() - lo.x()) *
+                      (hi.y() - lo.y());  // G rho A / 4 per line
+  double g_up = 0.0;
+  for (const double x : {cx - dx, cx + dx})
+    for (const double y : {cy - dy, cy + dy}) {
+      const double r2 = x * x + y * y;
+      g_up +=
+          line * (1.0 / std::sqrt(r2 + lo.z() * lo.z()) - 1.0 / std::sqrt(r2 + hi.z() * hi.z()));
+    }
+  return -g_up;
+}
+
 }  // namespace ts

@@ -20,6 +20,8 @@ bool TerrainCorrectionOptions::Check(std::string* why) const {
     err = "refine_radius_m must be >= 0";
   else if (!(refine_ratio > 0.0) || !(min_subcell_m > 0.0))
     err = "refine_ratio and min_subcell_m must be positive";
+  else if (!(far_field_ratio == 0.0 || far_field_ratio >= 5.0))
+    err = "far_field_ratio must be 0 (exact everywhere) or >= 5";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -39,11 +41,16 @@ int RingOf(double d) {
 // The correction of one column between height h and the reference H over the rectangle
 // [x0, x1] x [y0, y1] (relative to the sensor's horizontal position), sensor at height s
 // above H.
+// Beyond far_field_ratio sides from the sensor the prism is a vertical line mass.
 double Column(double x0, double x1, double y0, double y1, double h, double ref, double sensor_z,
-              double density) {
+              const TerrainCorrectionOptions& o) {
   if (h == ref) return 0.0;
   const double lo = std::min(h, ref) - sensor_z, hi = std::max(h, ref) - sensor_z;
-  const double g = PrismDownwardAttraction({x0, y0, lo}, {x1, y1, hi}, density);
+  const bool far = o.far_field_ratio > 0.0 && std::hypot(0.5 * (x0 + x1), 0.5 * (y0 + y1)) >=
+                                                  o.far_field_ratio * std::max(x1 - x0, y1 - y0);
+  const double g =
+      far ? PrismDownwardAttractionFarField({x0, y0, lo}, {x1, y1, hi}, o.density_kg_m3)
+          : PrismDownwardAttraction({x0, y0, lo}, {x1, y1, hi}, o.density_kg_m3);
   return h < ref ? g : -g;  // missing mass below: as it would pull; excess: opposite
 }
 
@@ -66,7 +73,7 @@ double RefinedColumn(double x0, double y0, double size, int depth, double fallba
     return sum;
   }
   const double z = sample(cx, cy, fallback);
-  return Column(x0, x0 + size, y0, y0 + size, z, ref, sensor_z, o.density_kg_m3);
+  return Column(x0, x0 + size, y0, y0 + size, z, ref, sensor_z, o);
 }
 
 }  // namespace
@@ -110,8 +117,7 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       if (refine) {
         value = RefinedColumn(cx - half, cy - half, dem.cell_m, 0, h, sample, ref, sensor_z, o);
       } else {
-        value =
-            Column(cx - half, cx + half, cy - half, cy + half, h, ref, sensor_z, o.density_kg_m3);
+        value = Column(cx - half, cx + half, cy - half, cy + half, h, ref, sensor_z, o);
       }
       value *= kMgalPerMs2;
       ring_sum[ring] += value;
@@ -121,12 +127,11 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
         const float s = dem_std->at(r, c);
         if (!Raster::IsNoData(s) && s > 0) {
           const double eps = 0.01;
-          const double derivative = kMgalPerMs2 *
-                                    (Column(cx - half, cx + half, cy - half, cy + half, h + eps,
-                                            ref, sensor_z, o.density_kg_m3) -
-                                     Column(cx - half, cx + half, cy - half, cy + half, h - eps,
-                                            ref, sensor_z, o.density_kg_m3)) /
-                                    (2 * eps);
+          const double derivative =
+              kMgalPerMs2 *
+              (Column(cx - half, cx + half, cy - half, cy + half, h + eps, ref, sensor_z, o) -
+               Column(cx - half, cx + half, cy - half, cy + half, h - eps, ref, sensor_z, o)) /
+              (2 * eps);
           variance += derivative * derivative * s * s;
           correlated += std::abs(derivative) * s;
         }

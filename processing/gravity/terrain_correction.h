@@ -35,6 +35,9 @@ struct TerrainCorrectionOptions {
   // its distance from the station (down to min_subcell_m).
   double refine_ratio = 0.2;
   double min_subcell_m = 0.005;
+  // Columns at least this many sides from the sensor are vertical line masses (prism.h's far
+  // field, relative error < 1e-4 there); 0: the exact prism everywhere.
+  double far_field_ratio = 5.0;
   double min_ring_coverage = 0.9;  // warn below
   bool Check(std::string* why) const;
 };

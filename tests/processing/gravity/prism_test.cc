@@ -87,6 +87,25 @@ TEST(Prism, FiniteAHairOffAnEdge) {
 }
 
 // Symmetry: a point at the centre of a cube feels nothing vertically.
+// The line-mass far field: below 1e-4 relative from 5 sides on, 2e-5 from 10, and falling as
+// (side / distance)^4 once the distance also dwarfs the column's height; for mass below,
+// above and across the point's height.
+TEST(Prism, FarFieldLineMassesErrorFallsAsTheFourthPowerOfSideOverDistance) {
+  for (const auto& [z1, z2] : {std::pair{-3.0, -0.5}, std::pair{0.2, 4.0}, std::pair{-1.0, 2.0}}) {
+    double previous = 0.0;
+    for (double r : {5.0, 10.0, 20.0, 40.0, 80.0}) {
+      const Eigen::Vector3d lo(r - 0.5, -0.5, z1), hi(r + 0.5, 0.5, z2);
+      const double exact = PrismDownwardAttraction(lo, hi, kRho);
+      const double error = std::abs(PrismDownwardAttractionFarField(lo, hi, kRho) / exact - 1.0);
+      EXPECT_LT(error, r >= 10.0 ? 2e-5 : 1e-4) << z1 << " " << r;
+      if (r >= 40.0) {
+        EXPECT_NEAR(error / previous, 1.0 / 16, 0.015) << z1 << " " << r;
+      }
+      previous = error;
+    }
+  }
+}
+
 TEST(Prism, NoVerticalPullAtTheCentreOfACube) {
   EXPECT_NEAR(PrismDownwardAttraction({-1, -1, -1}, {1, 1, 1}, kRho), 0.0, 1e-20);
 }
