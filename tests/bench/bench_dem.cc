@@ -7,6 +7,9 @@
 //    ground points; on forest also the share of object points (> 0.5 m above the true
 //    ground) that the ground filter removed; the terrain correction from the processed DEM
 //    against the one from the true DEM (and its speed);
+//  - on flat and hills a second epoch (another sun, new noise, a 0.5 m subsidence bowl where
+//    the tripod sees it) processed the same way: the change detection's subsidence region
+//    against the bowl (volume, deepest point in its sigma);
 //  - the ISPRS filter-test samples: mean total error of our ground filter and, beside it,
 //    PCL's progressive morphological filter with the PCL tutorial settings.
 #include <pcl/filters/extract_indices.h>
@@ -14,7 +17,9 @@
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include <filesystem>
+#include <optional>
 
+#include "processing/change/dem_of_difference.h"
 #include "processing/cloud/ground_filter.h"
 #include "processing/dem/dem_evaluation.h"
 #include "processing/gravity/terrain_correction.h"
@@ -32,13 +37,21 @@ struct SceneTargets {
   const char* scene;
   double max_rmse_m;
   double max_tc_error_mgal;
+  std::optional<sim::Subsidence> bowl = std::nullopt;  // a second epoch with it
 };
 
-void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
-  testing::TempDir dir;
-  const std::string station_dir = dir / "station", truth_dir = dir / "truth";
-  sim::SimStationOptions options;
-  options.scene = t.scene;
+sim::Subsidence Bowl(double x, double y, double radius, double depth) {
+  sim::Subsidence b;
+  b.centre_m = {x, y};
+  b.radius_m = radius;
+  b.depth_m = depth;
+  return b;
+}
+
+// The station of a scene rendered into dir/station and dir/truth.
+std::shared_ptr<const sim::SimStation> Render(const sim::SimStationOptions& options,
+                                              const std::string& station_dir,
+                                              const std::string& truth_dir) {
   const auto station = *sim::BuildSimStation(options);
   if (Status s = sim::RenderStationDirectory(*station, sim::StationRenderOptions{}, station_dir,
                                              truth_dir);
@@ -46,6 +59,51 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
     std::fprintf(stderr, "%s\n", s.error().c_str());
     std::exit(1);
   }
+  return station;
+}
+
+// A later epoch with a bowl, against the processed first epoch `first`.
+void SubsidenceEpoch(const char* scene, const sim::Subsidence& bowl, const ProcessResult& first,
+                     bench::Table* table) {
+  testing::TempDir dir;
+  sim::SimStationOptions options;
+  options.scene = scene;
+  options.epoch = 2;
+  options.subsidence = {bowl};
+  options.sun_deg = {120.0, 40.0};
+  Render(options, dir / "station", dir / "truth");
+  ProcessOptions process;
+  process.calibration_file = dir / "truth/calibration.yaml";
+  const ProcessResult second = ProcessStation(dir / "station", process).value();
+  const ChangeResult change = ComputeDemOfDifference({"epoch 1", first.dem, first.dem_std},
+                                                     {"epoch 2", second.dem, second.dem_std})
+                                  .value();
+  const SubsidenceRegion* found = nullptr;
+  for (const SubsidenceRegion& r : change.regions)
+    if ((r.centroid_xy_m - bowl.centre_m).norm() < bowl.radius_m) {
+      found = &r;
+      break;
+    }
+  const std::string s = std::string(scene) + ": subsidence bowl ";
+  if (!found) {
+    table->Add({s + "found", 0.0, "", "1", false});
+    return;
+  }
+  const double volume_error = found->lowering.volume_m3 / bowl.Volume() - 1.0;
+  const double depth_in_sigma = (found->max_depth_m - bowl.depth_m) / found->max_depth_sigma_m;
+  table->Add({s + "true volume", bowl.Volume(), "m3", ""});
+  table->Add({s + "volume error", volume_error, "", "|.| <= 0.10", std::abs(volume_error) <= 0.1});
+  table->Add({s + "depth error", found->max_depth_m - bowl.depth_m, "m", ""});
+  table->Add(
+      {s + "depth error / sigma", depth_in_sigma, "", "|.| <= 2", std::abs(depth_in_sigma) <= 2.0});
+}
+
+void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
+  testing::TempDir dir;
+  const std::string station_dir = dir / "station", truth_dir = dir / "truth";
+  sim::SimStationOptions options;
+  options.scene = t.scene;
+  const auto station = Render(options, station_dir, truth_dir);
   // The real command, for its wall time and peak memory.
   const std::string command = std::string(TS_TOPOSTATION_EXE) + " process " + station_dir +
                               " --calibration " + truth_dir + "/calibration.yaml --json > " +
@@ -108,6 +166,7 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
         1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / runs;
     table->Add({"terrain correction of a 60 x 60 DEM (one core)", ms, "ms", "<= 50", ms <= 50});
   }
+  if (t.bowl) SubsidenceEpoch(t.scene, *t.bowl, r, table);
   if (std::string(t.scene) == "forest") {
     double objects = 0, removed = 0;
     for (size_t i = 0; i < r.cloud.size(); ++i) {
@@ -168,7 +227,8 @@ int main(int argc, char** argv) {
   bench::Table table("points to DEM: simulated surveys and the ISPRS filter test");
   IsprsSamples(&table);
   for (const SceneTargets& t :
-       {SceneTargets{"flat", 0.10, 0.01}, SceneTargets{"hills", 0.20, 0.01},
+       {SceneTargets{"flat", 0.10, 0.01, Bowl(9.5, 6.5, 7.0, 0.5)},
+        SceneTargets{"hills", 0.20, 0.01, Bowl(-11.5, 6.5, 5.0, 0.5)},
         SceneTargets{"slope", 0.35, 0.03}, SceneTargets{"forest", 0.35, 0.03}})
     SimulatedSurvey(t, &table);
   return table.Finish(argc, argv);
