@@ -28,22 +28,27 @@ struct ProcessOptions {
   double dem_half_size_m = 30.0;  // the DEM covers the square of 2 x this around the station
   double dem_cell_m = 1.0;
   double cloud_margin_m = 10.0;  // points this far beyond the square still inform the DEM
-  // Points at least 10 cm apart on the ground: plenty for a 1 m DEM (kriging thins to
-  // 25 cm), and a fraction of the near-tripod points the image-space grid gives.
+  // Points at least 20 cm apart on the ground: plenty for a 1 m DEM (kriging thins to
+  // 25 cm), and a fraction of the near-tripod points the image-space grid gives. Measured
+  // (simulator, 2 cores) 0.1 / 0.2 / 0.25 m: hills RMSE 0.174 / 0.174 / 0.174 m, coverage
+  // within 30 m 95.1 / 95.1 / 94.9 %, processing 0.8 s and 1.1 s faster than at 0.1.
   PairMatchOptions matching = [] {
     PairMatchOptions m;
-    m.min_spacing_m = 0.1;
+    m.min_spacing_m = 0.2;
     return m;
   }();
   HeightBlunderOptions blunders;
   // The ground filter tuned for a tripod's cloud (measured on the simulated forest: object
   // points > 0.5 m removed 87 % with the airborne defaults, 98.5 % with these; hills and flat
   // unchanged): a tighter band around the ground and a smaller slope allowance (the near
-  // ground is dense and precise).
+  // ground is dense and precise). Opening slope 0.15 / 0.10 / 0.08 at 20 cm point spacing:
+  // forest objects removed 97.6 / 98.0 / 98.2 %, forest RMSE 0.52 / 0.47 / 0.47 m, hills and
+  // slope within 5 mm.
   GroundFilterOptions ground = [] {
     GroundFilterOptions g;
     g.elevation_threshold_m = 0.2;
     g.elevation_scaler = 0.25;
+    g.slope = 0.08;
     return g;
   }();
   KrigingOptions kriging;
