@@ -72,8 +72,8 @@ bool ChangeOptions::Check(std::string* why) const {
     err = "t_critical must be in (0, 10]";
   else if (!(min_region_area_m2 >= 0.0))
     err = "the smallest listed region area must be >= 0 m2";
-  else if (!(region_grow_t >= 0.6 && region_grow_t <= t_critical))
-    err = "region_grow_t must be in [0.6, t_critical] (below 0.6 noise percolates)";
+  else if (!(region_grow_t >= 0.6 && region_grow_t <= 10.0))
+    err = "region_grow_t must be in [0.6, 10] (below 0.6 noise percolates)";
   else if (!(basin_reach_m >= 0.0 && basin_reach_m <= 100.0))
     err = "basin_reach_m must be in [0, 100]";
   if (err.empty()) return true;

@@ -120,7 +120,9 @@ std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
       label = keep[label];
       if (label) frontier.emplace_back(c, r);
     }
-  // Hysteresis: into the 4-neighbours lowered by at least grow_t sigma.
+  // Hysteresis: into the 4-neighbours lowered by at least grow_t sigma (never a stricter test
+  // than the cores' own).
+  const double grow_t = std::min(o.region_grow_t, o.t_critical);
   while (!frontier.empty()) {
     const cv::Point p = frontier.front();
     frontier.pop_front();
@@ -130,8 +132,7 @@ std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
       if (q.x < 0 || q.y < 0 || q.x >= grid.cols || q.y >= grid.rows) continue;
       int32_t& label = labels.at<int32_t>(q);
       const float dz = grid.at(q.y, q.x);
-      if (label || Raster::IsNoData(dz) || !(-dz >= o.region_grow_t * change.dod_std.at(q.y, q.x)))
-        continue;
+      if (label || Raster::IsNoData(dz) || !(-dz >= grow_t * change.dod_std.at(q.y, q.x))) continue;
       label = labels.at<int32_t>(p);
       frontier.push_back(q);
     }

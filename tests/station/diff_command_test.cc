@@ -88,6 +88,16 @@ TEST(DiffCommand, FixedLevelOfDetectionWithoutStdGrids) {
   EXPECT_NE(r.out.find("max subsidence 0.500"), std::string::npos) << r.out;
 }
 
+// A looser test than the regions' growth (t 0.8 < 1) is taken as it is, not refused.
+TEST(DiffCommand, LooseTCritical) {
+  testing::TempDir dir;
+  WriteEpochs(dir.path(), true);
+  const auto r = RunCommand(Diff((dir / "before.tif") + " " + (dir / "after.tif") + " --out " +
+                                 (dir / "change") + " --t-critical 0.8 --json"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["lowering"]["cells"], 6);
+}
+
 TEST(DiffCommand, BadInputGivesOneClearError) {
   testing::TempDir dir;
   WriteEpochs(dir.path(), true);
