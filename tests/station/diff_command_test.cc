@@ -2,6 +2,7 @@
 // the two-epoch survey test).
 #include <gtest/gtest.h>
 
+#include <ogr_spatialref.h>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -96,6 +97,56 @@ TEST(DiffCommand, LooseTCritical) {
                                  (dir / "change") + " --t-critical 0.8 --json"));
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(nlohmann::json::parse(r.out)["lowering"]["cells"], 6);
+}
+
+std::string Wkt(int epsg) {
+  OGRSpatialReference s;
+  s.importFromEPSG(epsg);
+  char* wkt = nullptr;
+  s.exportToWkt(&wkt);
+  const std::string out = wkt;
+  CPLFree(wkt);
+  return out;
+}
+
+// Georeferenced epochs (processed with GCPs) in one projected CRS, on grids offset by half a
+// cell: compared after resampling, the regions' GeoJSON names the CRS; another CRS is refused.
+TEST(DiffCommand, GeoreferencedEpochs) {
+  testing::TempDir dir;
+  Raster before = Raster::Make(500000, 5400040, 1.0, 40, 40, 200.0f);
+  before.crs_wkt = Wkt(32633);
+  Raster after = Raster::Make(500000.5, 5400039.5, 1.0, 40, 40, 200.0f);
+  after.crs_wkt = before.crs_wkt;
+  for (int r = 10; r < 20; ++r)
+    for (int c = 10; c < 20; ++c) after.at(r, c) = 199.0f;  // a 10 x 10 m pit, 1 m deep
+  Raster s = before;
+  std::fill(s.values.begin(), s.values.end(), 0.02f);
+  ASSERT_TRUE(WriteGeoTiff(before, dir / "e1.tif"));
+  ASSERT_TRUE(WriteGeoTiff(s, dir / "e1_std.tif"));
+  ASSERT_TRUE(WriteGeoTiff(after, dir / "e2.tif"));
+  s.min_x_m = after.min_x_m, s.max_y_m = after.max_y_m;
+  ASSERT_TRUE(WriteGeoTiff(s, dir / "e2_std.tif"));
+  const auto r = RunCommand(
+      Diff((dir / "e1.tif") + " " + (dir / "e2.tif") + " --out " + (dir / "change") + " --json"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["after_resampled_onto_before"].get<bool>());
+  EXPECT_NE(j["frame"].get<std::string>().find("UTM zone 33N"), std::string::npos) << j["frame"];
+  // Bilinear resampling spreads the pit's edges over half a cell: the volume is kept.
+  EXPECT_NEAR(j["subsidence_regions"][0]["volume_m3"].get<double>(), 100.0, 3.0);
+  std::ifstream geojson(dir / "change/subsidence.geojson");
+  const auto g = nlohmann::json::parse(geojson);
+  EXPECT_EQ(g["crs"]["properties"]["name"], "urn:ogc:def:crs:EPSG::32633");
+  const auto& ring = g["features"][0]["geometry"]["coordinates"][0];
+  EXPECT_GT(ring[0][0].get<double>(), 500000.0);
+  EXPECT_GT(ring[0][1].get<double>(), 5400000.0);
+
+  after.crs_wkt = Wkt(32634);
+  ASSERT_TRUE(WriteGeoTiff(after, dir / "e2.tif"));
+  const auto refused =
+      RunCommand(Diff((dir / "e1.tif") + " " + (dir / "e2.tif") + " --out " + (dir / "change")));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.out.find("e2.tif: in CRS"), std::string::npos) << refused.out;
 }
 
 TEST(DiffCommand, BadInputGivesOneClearError) {
