@@ -160,6 +160,8 @@ void AddDiffCommand(CLI::App& app) {
                 "fixed level of detection, m (default: per-cell t-test from the std grids)");
   d->add_option("--t-critical", args->options.t_critical,
                 "t of the per-cell test (default 1.96: 95 %)");
+  d->add_flag("--remove-offset", args->options.remove_stable_offset,
+              "level AFTER on the unchanged ground first (epochs not on one height datum)");
   d->add_option("--min-area", args->options.min_region_area_m2,
                 "smallest subsidence region listed, m2 (default 4)");
   d->add_option("--truth", args->truth,

@@ -126,6 +126,7 @@ nlohmann::json ChangeToJson(const ChangeResult& c, const ChangeOptions& o) {
           {"net_sigma_m3", c.net_sigma_m3},
           {"max_subsidence", max_subsidence},
           {"stable_ground_median_dz_m", c.stable_median_m},
+          {"height_offset_removed_m", c.offset_removed_m},
           {"min_region_area_m2", o.min_region_area_m2},
           {"regions",
            "significant cores of at least min_region_area_m2, grown into 4-neighbours lowered "

@@ -81,10 +81,10 @@ bool ChangeOptions::Check(std::string* why) const {
   return false;
 }
 
-Result<ChangeResult> ComputeDemOfDifference(const DemEpoch& before, const DemEpoch& after,
-                                            const ChangeOptions& o) {
-  std::string why;
-  if (!o.Check(&why)) return Error{"change detection: " + why};
+namespace {
+
+Result<ChangeResult> CompareEpochs(const DemEpoch& before, const DemEpoch& after,
+                                   const ChangeOptions& o) {
   if (before.dem.cols <= 0 || before.dem.rows <= 0) return Error{before.name + ": empty DEM"};
   if (after.dem.cols <= 0 || after.dem.rows <= 0) return Error{after.name + ": empty DEM"};
   if (Status s = CheckStdGrid(before); !s) return Error{s.error()};
@@ -193,6 +193,40 @@ Result<ChangeResult> ComputeDemOfDifference(const DemEpoch& before, const DemEpo
     out.warnings.push_back(
         "no standard deviation grids: cell sigma taken as the level of detection / t_critical");
   return out;
+}
+
+}  // namespace
+
+Result<ChangeResult> ComputeDemOfDifference(const DemEpoch& before, const DemEpoch& after,
+                                            const ChangeOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) return Error{"change detection: " + why};
+  Result<ChangeResult> first = CompareEpochs(before, after, o);
+  if (!first || !o.remove_stable_offset) return first;
+  // Level the later epoch on the unchanged ground: first by the median dz of all cells (a
+  // change is a minority of them, and an offset beyond the LoD leaves no cell "unchanged"),
+  // then by the median of the cells the levelled comparison finds unchanged.
+  std::vector<float> all;
+  for (float dz : first->dod.values)
+    if (!Raster::IsNoData(dz)) all.push_back(dz);
+  DemEpoch levelled = after;
+  double offset = Median(all);
+  Result<ChangeResult> result = Error{""};
+  for (int pass = 0; pass < 2; ++pass) {
+    levelled.dem = after.dem;
+    for (float& z : levelled.dem.values)
+      if (!Raster::IsNoData(z)) z -= static_cast<float>(offset);
+    result = CompareEpochs(before, levelled, o);
+    if (!result) return result;
+    offset += result->stable_median_m;
+  }
+  result->offset_removed_m = offset - result->stable_median_m;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "the later epoch was lowered by %+.3f m, the median dz of the unchanged ground",
+                result->offset_removed_m);
+  result->warnings.push_back(text);
+  return result;
 }
 
 }  // namespace ts

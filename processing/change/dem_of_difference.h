@@ -25,8 +25,11 @@ struct ChangeOptions {
   // > 0: a fixed level of detection, |dz| >= lod_m is significant. 0: the per-cell t-test
   // |dz| / sigma >= t_critical (needs both std grids).
   double lod_m = 0.0;
-  double t_critical = 1.96;         // 95 %, two-sided
-  double min_region_area_m2 = 4.0;  // smaller significant cores are counted, not listed
+  double t_critical = 1.96;
+  // Level the later epoch on the unchanged ground first (the median dz there): for epochs
+  // whose heights are not on one datum, e.g. a tripod height read 2 cm off.
+  bool remove_stable_offset = false;  // 95 %, two-sided
+  double min_region_area_m2 = 4.0;    // smaller significant cores are counted, not listed
   // A region grows from its significant core into 4-neighbours lowered by at least
   // region_grow_t * sigma (hysteresis, as Canny's edges): a gentle bowl's rim, where no single
   // cell is significant, still belongs to it. Simulated hills, 0.5 m bowl, sigma ~0.07 m:
@@ -90,6 +93,7 @@ struct ChangeResult {
   std::vector<SubsidenceRegion> regions;
   // Median dz over the cells below detection: ~0 unless the epochs' height datums differ.
   double stable_median_m = 0.0;
+  double offset_removed_m = 0.0;  // subtracted from the later epoch (remove_stable_offset)
   std::vector<std::string> warnings;
 };
 

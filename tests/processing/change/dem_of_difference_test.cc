@@ -282,5 +282,26 @@ TEST(DemOfDifference, WarnsOfAHeightDatumOffset) {
   EXPECT_EQ(j["subsidence_regions"].size(), 0u);
 }
 
+// A later epoch 0.3 m high everywhere (a tripod height misread) with a real pit: levelled on
+// the unchanged ground, the pit alone remains.
+TEST(DemOfDifference, RemovesAStableGroundOffsetOnRequest) {
+  auto pit = [](double x, double y) { return Bowl(x, y, -8.5, 10.5, 0.6, 5); };
+  const DemEpoch before = Epoch("b", Surface(1.0, None), 0.02f);
+  const DemEpoch after = Epoch("a", Surface(1.0, pit, 0.3), 0.02f);
+  const Result<ChangeResult> raw = ComputeDemOfDifference(before, after);
+  ASSERT_TRUE(raw) << raw.error();
+  EXPECT_GT(raw->raising.cells, 3000);  // everything "rose"
+  ChangeOptions o;
+  o.remove_stable_offset = true;
+  const Result<ChangeResult> c = ComputeDemOfDifference(before, after, o);
+  ASSERT_TRUE(c) << c.error();
+  EXPECT_NEAR(c->offset_removed_m, 0.3, 1e-4);
+  EXPECT_EQ(c->raising.cells, 0);
+  ASSERT_EQ(c->regions.size(), 1u);
+  EXPECT_NEAR(c->regions[0].lowering.volume_m3, BowlVolume(0.6, 5), 0.02 * BowlVolume(0.6, 5));
+  EXPECT_NEAR(*c->max_subsidence_m, 0.6, 0.01);
+  EXPECT_NEAR(ChangeToJson(*c, o)["height_offset_removed_m"].get<double>(), 0.3, 1e-4);
+}
+
 }  // namespace
 }  // namespace ts
