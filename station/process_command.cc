@@ -142,7 +142,7 @@ void AddProcessCommands(CLI::App& app) {
   p->add_option("--half-size-m", process->options.dem_half_size_m,
                 "the DEM square's half side (default 30)");
   p->add_option("--max-distance-m", process->options.kriging.max_distance_m,
-                "nodata where the nearest ground point is farther (default 5)");
+                "nodata where the nearest ground point is farther (default 5.5)");
   p->add_flag("--json", process->json, "print the report as JSON");
   p->callback([process] {
     const nlohmann::json r = ProcessOrThrow(process->station, process->options,

@@ -15,28 +15,17 @@ nlohmann::json ToJson(const ChangeVolume& v) {
 
 nlohmann::json Xy(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
 
-// GeoJSON polygon(s): each exterior ring with the holes that lie inside it.
+// GeoJSON: a Polygon, or a MultiPolygon where the outline has several.
 nlohmann::json Geometry(const SubsidenceRegion& region) {
   auto ring_json = [](const std::vector<Eigen::Vector2d>& ring) {
     nlohmann::json j = nlohmann::json::array();
     for (const Eigen::Vector2d& p : ring) j.push_back(Xy(p));
     return j;
   };
-  auto inside = [](const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& ring) {
-    bool in = false;  // even-odd rule
-    for (size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
-      if ((ring[i].y() > p.y()) != (ring[j].y() > p.y()) &&
-          p.x() <
-              (ring[j].x() - ring[i].x()) * (p.y() - ring[i].y()) / (ring[j].y() - ring[i].y()) +
-                  ring[i].x())
-        in = !in;
-    return in;
-  };
   nlohmann::json polygons = nlohmann::json::array();
-  for (const auto& exterior : region.exterior_rings) {
-    nlohmann::json polygon = nlohmann::json::array({ring_json(exterior)});
-    for (const auto& hole : region.hole_rings)
-      if (!hole.empty() && inside(hole.front(), exterior)) polygon.push_back(ring_json(hole));
+  for (const OutlinePolygon& p : region.outline) {
+    nlohmann::json polygon = nlohmann::json::array({ring_json(p.exterior)});
+    for (const auto& hole : p.holes) polygon.push_back(ring_json(hole));
     polygons.push_back(polygon);
   }
   if (polygons.size() == 1) return {{"type", "Polygon"}, {"coordinates", polygons[0]}};

@@ -25,11 +25,11 @@ struct ChangeOptions {
   // > 0: a fixed level of detection, |dz| >= lod_m is significant. 0: the per-cell t-test
   // |dz| / sigma >= t_critical (needs both std grids).
   double lod_m = 0.0;
-  double t_critical = 1.96;
+  double t_critical = 1.96;  // 95 %, two-sided
   // Level the later epoch on the unchanged ground first (the median dz there): for epochs
   // whose heights are not on one datum, e.g. a tripod height read 2 cm off.
-  bool remove_stable_offset = false;  // 95 %, two-sided
-  double min_region_area_m2 = 4.0;    // smaller significant cores are counted, not listed
+  bool remove_stable_offset = false;
+  double min_region_area_m2 = 4.0;  // smaller significant cores are counted, not listed
   // A region grows from its significant core into 4-neighbours lowered by at least
   // region_grow_t * sigma (hysteresis, as Canny's edges): a gentle bowl's rim, where no single
   // cell is significant, still belongs to it. Simulated hills, 0.5 m bowl, sigma ~0.07 m:
@@ -53,6 +53,13 @@ struct ChangeVolume {
   void Finish();
 };
 
+// One polygon of an outline, along cell edges in the grid's coordinates: its exterior ring and
+// the rings of its holes, each closed (first point repeated last).
+struct OutlinePolygon {
+  std::vector<Eigen::Vector2d> exterior;
+  std::vector<std::vector<Eigen::Vector2d>> holes;
+};
+
 // A connected (8-neighbour) area of significant lowering, grown into its rim.
 struct SubsidenceRegion {
   int id = 0;                 // 1, 2, ... by volume, largest first
@@ -62,10 +69,7 @@ struct SubsidenceRegion {
   double max_depth_sigma_m = 0.0;
   Eigen::Vector2d deepest_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d centroid_xy_m = Eigen::Vector2d::Zero();  // depth-weighted
-  // Outline along cell edges in the grid's coordinates: exterior ring(s) then holes, each
-  // closed (first point repeated last), as GDAL's polygonizer traces them.
-  std::vector<std::vector<Eigen::Vector2d>> exterior_rings;
-  std::vector<std::vector<Eigen::Vector2d>> hole_rings;
+  std::vector<OutlinePolygon> outline;                      // as GDAL's polygonizer traces it
 };
 
 // The values of ChangeResult::change_class.

@@ -58,9 +58,10 @@ void TraceOutlines(const cv::Mat& labels, const Raster& grid,
     const OGRGeometry* g = f->GetGeometryRef();
     if (it == by_label->end() || !g || wkbFlatten(g->getGeometryType()) != wkbPolygon) continue;
     const OGRPolygon* polygon = g->toPolygon();
-    it->second->exterior_rings.push_back(RingPoints(polygon->getExteriorRing()));
+    OutlinePolygon& out = it->second->outline.emplace_back();
+    out.exterior = RingPoints(polygon->getExteriorRing());
     for (int i = 0; i < polygon->getNumInteriorRings(); ++i)
-      it->second->hole_rings.push_back(RingPoints(polygon->getInteriorRing(i)));
+      out.holes.push_back(RingPoints(polygon->getInteriorRing(i)));
   }
 }
 

@@ -55,9 +55,9 @@ cv::Mat RenderDodImage(const ChangeResult& change, const Raster* shade_dem,
       image(cv::Rect(c * k, r * k, k, k)).setTo(colour);
     }
   for (const SubsidenceRegion& region : change.regions) {
-    for (const auto& ring : region.exterior_rings) {
+    for (const OutlinePolygon& polygon : region.outline) {
       std::vector<cv::Point> points;
-      for (const Eigen::Vector2d& p : ring) points.push_back(ToPixel(dod, k, p));
+      for (const Eigen::Vector2d& p : polygon.exterior) points.push_back(ToPixel(dod, k, p));
       cv::polylines(image, points, true, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     }
     cv::putText(image, std::to_string(region.id), ToPixel(dod, k, region.centroid_xy_m),

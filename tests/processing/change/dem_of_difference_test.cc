@@ -100,17 +100,17 @@ TEST(DemOfDifference, BowlVolumeDepthAreaAndOneRegion) {
               0.01 * BowlVolume(depth, radius));
   EXPECT_NEAR(region.centroid_xy_m.x(), cx, 0.05);
   EXPECT_NEAR(region.centroid_xy_m.y(), cy, 0.05);
-  ASSERT_EQ(region.exterior_rings.size(), 1u);
-  EXPECT_TRUE(region.hole_rings.empty());
+  ASSERT_EQ(region.outline.size(), 1u);
+  EXPECT_TRUE(region.outline[0].holes.empty());
   EXPECT_NEAR(c->stable_median_m, 0.0, 1e-5);
   EXPECT_TRUE(c->warnings.empty());
   // Every vertex of the outline is a cell corner, within the bowl's radius + a cell.
-  for (const Eigen::Vector2d& p : region.exterior_rings[0]) {
+  for (const Eigen::Vector2d& p : region.outline[0].exterior) {
     EXPECT_NEAR(p.x(), std::round(p.x()), 1e-9);
     EXPECT_NEAR(p.y(), std::round(p.y()), 1e-9);
     EXPECT_LT(std::hypot(p.x() - cx, p.y() - cy), radius + 1.5);
   }
-  EXPECT_EQ(region.exterior_rings[0].front(), region.exterior_rings[0].back());
+  EXPECT_EQ(region.outline[0].exterior.front(), region.outline[0].exterior.back());
 }
 
 // With noise of the size of a hills DEM's (0.05 m in the DoD), the region still holds the
@@ -154,9 +154,9 @@ TEST(DemOfDifference, RegionOutlinesHolesAndSpeckles) {
   ASSERT_EQ(c->regions.size(), 2u);
   // Largest volume first: the annulus (25.6 m3), then the block (9 m3).
   EXPECT_NEAR(c->regions[0].lowering.volume_m3, 25.6, 1e-3);
-  EXPECT_EQ(c->regions[0].hole_rings.size(), 1u);
+  EXPECT_EQ(c->regions[0].outline.at(0).holes.size(), 1u);
   EXPECT_NEAR(c->regions[1].lowering.area_m2, 9.0, 1e-9);
-  const auto& square = c->regions[1].exterior_rings.at(0);
+  const auto& square = c->regions[1].outline.at(0).exterior;
   double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
   for (const Eigen::Vector2d& p : square)
     min_x = std::min(min_x, p.x()), max_x = std::max(max_x, p.x()), min_y = std::min(min_y, p.y()),
