@@ -8,6 +8,7 @@
 
 #include "processing/change/change_json.h"
 #include "processing/change/dem_of_difference.h"
+#include "processing/change/subsidence_regions.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/image_file.h"
 #include "processing/products/dod_image.h"
@@ -48,11 +49,8 @@ nlohmann::json EvaluateAgainstTruth(const ChangeResult& change, const std::strin
                                  bowl["centre_l"][1].get<double>());
     const double volume = bowl["volume_m3"].get<double>(),
                  depth = bowl["max_depth_m"].get<double>();
-    const SubsidenceRegion* found = nullptr;
-    for (const SubsidenceRegion& r : change.regions)
-      if ((r.centroid_xy_m - centre).norm() < bowl["radius_m"].get<double>() &&
-          (!found || (r.centroid_xy_m - centre).norm() < (found->centroid_xy_m - centre).norm()))
-        found = &r;
+    const SubsidenceRegion* found =
+        RegionNearest(change.regions, centre, bowl["radius_m"].get<double>());
     nlohmann::json j = {{"centre_l", {centre.x(), centre.y()}},
                         {"true_volume_m3", volume},
                         {"true_max_depth_m", depth},
@@ -79,6 +77,10 @@ void Run(const DiffArgs& args) {
       ComputeDemOfDifference({before.dem_file, before.dem, before.std_dev},
                              {after.dem_file, after.dem, after.std_dev}, args.options);
   if (!change) throw CommandError(change.error());
+  nlohmann::json j = ChangeToJson(*change, args.options);
+  j["before"] = {{"dem", before.dem_file}, {"std", before.std_file}};
+  j["after"] = {{"dem", after.dem_file}, {"std", after.std_file}};
+  if (!args.truth.empty()) j["evaluation"] = EvaluateAgainstTruth(*change, args.truth);
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) throw CommandError(args.out + ": cannot create: " + ec.message());
@@ -94,10 +96,6 @@ void Run(const DiffArgs& args) {
           WritePngAtomically(RenderDodImage(*change, &shade, mark), (out / "dod.png").string());
       !png)
     throw CommandError(png.error());
-  nlohmann::json j = ChangeToJson(*change, args.options);
-  j["before"] = {{"dem", before.dem_file}, {"std", before.std_file}};
-  j["after"] = {{"dem", after.dem_file}, {"std", after.std_file}};
-  if (!args.truth.empty()) j["evaluation"] = EvaluateAgainstTruth(*change, args.truth);
   if (Status s = WriteFileAtomically((out / "subsidence.geojson").string(),
                                      SubsidenceGeoJson(*change).dump(1) + "\n");
       !s)

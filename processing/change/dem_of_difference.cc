@@ -117,7 +117,7 @@ Result<ChangeResult> CompareEpochs(const DemEpoch& before, const DemEpoch& after
 
   const double cell_area = before.dem.cell_m * before.dem.cell_m;
   int before_cells = 0, after_cells = 0;
-  std::vector<float> stable;
+  std::vector<float> stable, stable_lod;  // dz and detection level of the unchanged cells
   for (int r = 0; r < out.dod.rows; ++r)
     for (int c = 0; c < out.dod.cols; ++c) {
       const float z0 = before.dem.at(r, c), z1 = after_dem.at(r, c);
@@ -142,6 +142,7 @@ Result<ChangeResult> CompareEpochs(const DemEpoch& before, const DemEpoch& after
       ++out.cells_compared;
       if (cls == kBelowDetection) {
         stable.push_back(static_cast<float>(dz));
+        stable_lod.push_back(static_cast<float>(o.lod_m > 0.0 ? o.lod_m : o.t_critical * sigma));
         continue;
       }
       (cls < 0 ? out.lowering : out.raising).AddCell(std::abs(dz), sigma, cell_area);
@@ -176,13 +177,7 @@ Result<ChangeResult> CompareEpochs(const DemEpoch& before, const DemEpoch& after
     }
   // Unchanged ground should difference to zero; a median offset beyond half the typical
   // detection level says the epochs' heights are not tied to one datum.
-  std::vector<float> lods;
-  for (int r = 0; r < out.dod.rows; ++r)
-    for (int c = 0; c < out.dod.cols; ++c)
-      if (out.change_class.at(r, c) == kBelowDetection)
-        lods.push_back(o.lod_m > 0.0 ? static_cast<float>(o.lod_m)
-                                     : static_cast<float>(o.t_critical * out.dod_std.at(r, c)));
-  if (!lods.empty() && std::abs(out.stable_median_m) > 0.5 * Median(lods)) {
+  if (!stable_lod.empty() && std::abs(out.stable_median_m) > 0.5 * Median(stable_lod)) {
     std::snprintf(text, sizeof text,
                   "the unchanged ground differs by a median %+.3f m between the epochs: their "
                   "heights are not on one datum (station height, GCPs?)",

@@ -179,4 +179,13 @@ std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
   return kept;
 }
 
+const SubsidenceRegion* RegionNearest(const std::vector<SubsidenceRegion>& regions,
+                                      const Eigen::Vector2d& xy_m, double within_m) {
+  const SubsidenceRegion* nearest = nullptr;
+  double best = within_m;
+  for (const SubsidenceRegion& r : regions)
+    if (const double d = (r.centroid_xy_m - xy_m).norm(); d < best) best = d, nearest = &r;
+  return nearest;
+}
+
 }  // namespace ts

@@ -13,4 +13,9 @@ namespace ts {
 std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
                                                     const ChangeOptions& options);
 
+// The region whose centroid lies nearest `xy_m`, if one lies within `within_m` (e.g. the region
+// found at a known bowl); null otherwise.
+const SubsidenceRegion* RegionNearest(const std::vector<SubsidenceRegion>& regions,
+                                      const Eigen::Vector2d& xy_m, double within_m);
+
 }  // namespace ts

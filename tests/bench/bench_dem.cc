@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "processing/change/dem_of_difference.h"
+#include "processing/change/subsidence_regions.h"
 #include "processing/cloud/ground_filter.h"
 #include "processing/dem/dem_evaluation.h"
 #include "processing/gravity/terrain_correction.h"
@@ -78,12 +79,7 @@ void SubsidenceEpoch(const char* scene, const sim::Subsidence& bowl, const Proce
   const ChangeResult change = ComputeDemOfDifference({"epoch 1", first.dem, first.dem_std},
                                                      {"epoch 2", second.dem, second.dem_std})
                                   .value();
-  const SubsidenceRegion* found = nullptr;
-  for (const SubsidenceRegion& r : change.regions)
-    if ((r.centroid_xy_m - bowl.centre_m).norm() < bowl.radius_m) {
-      found = &r;
-      break;
-    }
+  const SubsidenceRegion* found = RegionNearest(change.regions, bowl.centre_m, bowl.radius_m);
   const std::string s = std::string(scene) + ": subsidence bowl ";
   if (!found) {
     table->Add({s + "found", 0.0, "", "1", false});
