@@ -44,8 +44,7 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
   const int bins =
       short_bins + static_cast<int>(std::ceil((o.max_lag_m - o.short_lag_m) / o.bin_m - 1e-9));
   std::vector<double> sum_h(bins, 0.0), sum_sq(bins, 0.0), count(bins, 0.0);
-  auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
-    const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
+  auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q, double h) {
     if (!(h < o.max_lag_m) || h == 0.0) return;
     const int bin =
         h < o.short_lag_m
@@ -59,7 +58,8 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
     for (size_t b = a + 1; b < sample.size(); ++b) {
       const Eigen::Vector3d& p = points[sample[a]];
       const Eigen::Vector3d& q = points[sample[b]];
-      if (std::hypot(p.x() - q.x(), p.y() - q.y()) >= o.short_lag_m) add(p, q);
+      const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
+      if (h >= o.short_lag_m) add(p, q, h);
     }
   if (short_bins > 0 && !points.empty()) {
     const GridIndex grid(points, o.short_lag_m);
@@ -69,10 +69,10 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
       for (int r = r0 - 1; r <= r0 + 1; ++r)
         for (int c = c0 - 1; c <= c0 + 1; ++c) {
           if (!grid.Inside(c, r)) continue;
-          for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
-            if (*i != a &&
-                std::hypot(points[*i].x() - p.x(), points[*i].y() - p.y()) < o.short_lag_m)
-              add(p, points[*i]);
+          for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
+            const double h = std::hypot(points[*i].x() - p.x(), points[*i].y() - p.y());
+            if (*i != a && h < o.short_lag_m) add(p, points[*i], h);
+          }
         }
     }
   }

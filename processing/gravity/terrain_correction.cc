@@ -41,7 +41,8 @@ int RingOf(double d) {
 // The correction of one column between height h and the reference H over the rectangle
 // [x0, x1] x [y0, y1] (relative to the sensor's horizontal position), sensor at height s
 // above H.
-// Beyond far_field_ratio sides from the sensor the prism is a vertical line mass.
+// Beyond far_field_ratio sides from the sensor the prism is taken in its far-field form
+// (vertical line masses, prism.h).
 double Column(double x0, double x1, double y0, double y1, double h, double ref, double sensor_z,
               const TerrainCorrectionOptions& o) {
   if (h == ref) return 0.0;
