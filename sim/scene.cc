@@ -4,6 +4,10 @@
 
 namespace ts::sim {
 
+Eigen::Vector3d SunDirection(double az, double el) {
+  return Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+}
+
 bool SceneObject::Covers(double x_m, double y_m) const {
   const double dx = (x_m - canopy_centre.x()) / canopy_radii_m.x();
   const double dy = (y_m - canopy_centre.y()) / canopy_radii_m.y();

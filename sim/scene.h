@@ -28,6 +28,9 @@ struct SceneObject {
   bool Covers(double x_m, double y_m) const;
 };
 
+// Unit vector towards a sun at an azimuth (radians clockwise from north = +Y) and elevation.
+Eigen::Vector3d SunDirection(double azimuth_rad, double elevation_rad);
+
 struct Lighting {
   Eigen::Vector3d to_sun = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();  // unit, towards sun
   double ambient = 0.35;  // sky light, fraction of a sunlit horizontal surface

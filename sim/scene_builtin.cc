@@ -28,8 +28,7 @@ Lighting RandomSun(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> azimuth(0.0, 2.0 * kPi), elevation(35.0, 60.0);
   const double az = azimuth(rng), el = elevation(rng) * kPi / 180.0;
   Lighting l;
-  l.to_sun =
-      Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+  l.to_sun = SunDirection(az, el);
   return l;
 }
 

@@ -44,10 +44,8 @@ Status SetSun(Scene* scene, double azimuth_deg, double elevation_deg) {
   if (!(elevation_deg >= 5.0 && elevation_deg <= 90.0))
     return Error{"sun: elevation must be in [5, 90] degrees"};
   if (!std::isfinite(azimuth_deg)) return Error{"sun: azimuth must be a number of degrees"};
-  const double az = azimuth_deg * std::numbers::pi / 180.0;
-  const double el = elevation_deg * std::numbers::pi / 180.0;
-  scene->lighting.to_sun =
-      Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+  scene->lighting.to_sun = SunDirection(azimuth_deg * std::numbers::pi / 180.0,
+                                        elevation_deg * std::numbers::pi / 180.0);
   return {};
 }
 
