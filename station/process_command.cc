@@ -14,6 +14,7 @@
 #include "processing/io/point_cloud_file.h"
 #include "processing/io/raster.h"
 #include "station/commands.h"
+#include "station/dem_input.h"
 
 namespace ts {
 namespace {
@@ -96,9 +97,10 @@ void PrintEvaluation(const nlohmann::json& j) {
 }
 
 nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& truth_dir) {
-  const Result<Raster> dem = ReadGeoTiff(station + "/products/dem.tif");
-  if (!dem) throw CommandError(dem.error() + " (run `topostation process` first)");
-  if (!dem->crs_wkt.empty())
+  const DemInput in = LoadDemInput(station);
+  const Raster& dem = in.dem;
+  const Raster* std_dev = in.std_dev ? &*in.std_dev : nullptr;
+  if (!dem.crs_wkt.empty())
     throw CommandError(station +
                        "/products/dem.tif: georeferenced; the truth is in the station "
                        "frame (process without --gcps to evaluate)");
@@ -107,8 +109,7 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   const Result<Calibration> calibration = LoadCalibrationYaml(truth_dir + "/calibration.yaml");
   if (!calibration) throw CommandError(calibration.error());
   const Eigen::Vector2d station_xy = calibration->stage.StationMarkInL().head<2>();
-  const Result<Raster> s = ReadGeoTiff(station + "/products/dem_std.tif");
-  const DemEvaluation e = EvaluateDem(*dem, *truth, station_xy, s ? &*s : nullptr);
+  const DemEvaluation e = EvaluateDem(dem, *truth, station_xy, std_dev);
   if (e.cells_compared == 0)
     throw CommandError(station + "/products/dem.tif: no cell overlaps the truth DEM " + truth_dir +
                        "/dem.tif");
@@ -118,10 +119,9 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   // same grid, both at the true mark.
   const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
   const TerrainCorrectionOptions tc_options;
-  const TerrainCorrection ours =
-      ComputeTerrainCorrection(*dem, s ? &*s : nullptr, mark, tc_options);
+  const TerrainCorrection ours = ComputeTerrainCorrection(dem, std_dev, mark, tc_options);
   const TerrainCorrection truth_tc =
-      ComputeTerrainCorrection(truth->ResampledOnto(*dem), nullptr, mark, tc_options);
+      ComputeTerrainCorrection(truth->ResampledOnto(dem), nullptr, mark, tc_options);
   j["terrain_correction_mgal"] = ours.total_mgal;
   j["terrain_correction_sigma_mgal"] = ours.sigma_mgal;
   j["terrain_correction_true_mgal"] = truth_tc.total_mgal;
