@@ -61,7 +61,7 @@ void SearchAll(const cv::Mat& left, const cv::Mat& right, int d_min, int d_max, 
       for (int x = d; x < left.cols; ++x) p[x] = l[x] * r[x - d];
     }
     const cv::Mat sums = Box(product, h);
-    for (int y = h; y + h < left.rows; ++y) {
+    for (int y = 0; y < left.rows; ++y) {
       const float* sp = sums.ptr<float>(y);
       const float* sl = ls.sum.ptr<float>(y);
       const float* vl = ls.variance.ptr<float>(y);
@@ -106,7 +106,7 @@ void Refine(const cv::Mat& left, const cv::Mat& right, const cv::Mat& hypothesis
     const WindowStats rs = Stats(gathered, h);
     const cv::Mat sums = Box(left.mul(gathered), h);
     const cv::Mat count = Box(valid, h);
-    for (int y = h; y + h < left.rows; ++y) {
+    for (int y = 0; y < left.rows; ++y) {
       const int16_t* hyp = hypothesis.ptr<int16_t>(y);
       const float* sp = sums.ptr<float>(y);
       const float* sl = ls.sum.ptr<float>(y);
@@ -116,7 +116,7 @@ void Refine(const cv::Mat& left, const cv::Mat& right, const cv::Mat& hypothesis
       const float* c = count.ptr<float>(y);
       float* best = score->ptr<float>(y);
       int16_t* disp = disparity->ptr<int16_t>(y);
-      for (int x = h; x + h < left.cols; ++x) {
+      for (int x = 0; x < left.cols; ++x) {
         const float var = vl[x] * vr[x];
         if (c[x] < n - 0.5f || !(var > 1e-3f)) continue;  // a window partly outside
         const float ncc = (sp[x] - sl[x] * sr[x] / n) / std::sqrt(var);
