@@ -19,6 +19,8 @@ bool CapturePlanOptions::Check(std::string* why) const {
     err = "margin_deg must be finite";
   else if (!(max_abs_tilt_deg > 0.0 && max_abs_tilt_deg <= 90.0))
     err = "max_abs_tilt_deg must be in (0, 90]";
+  else if (!(row_overlap_deg >= 0.0 && row_overlap_deg < 20.0))
+    err = "row_overlap_deg must be in [0, 20)";
   for (double t : tilts_deg)
     if (!std::isfinite(t)) err = "tilts must be finite";
   if (err.empty()) return true;
@@ -42,6 +44,19 @@ double NearestGroundRangeM(const Calibration& cal, double tilt_deg) {
   const double depression = -RadFromDeg(tilt_deg) + half_down;
   if (depression <= 0.0) return INFINITY;
   return std::max(cal.stage.height_above_mark_m, 0.1) / std::tan(depression);
+}
+
+bool UpperPose(const Calibration& cal, const StagePose& below, const CapturePlanOptions& o,
+               StagePose* upper) {
+  const CameraIntrinsics& c = cal.rig.left;
+  const double field_deg =
+      DegFromRad(std::atan((c.principal_point_y_px + 0.5) / c.principal_distance_px) +
+                 std::atan((c.height_px - 0.5 - c.principal_point_y_px) / c.principal_distance_px));
+  const double wanted = below.tilt_deg + field_deg - o.row_overlap_deg;
+  const double tilt = std::min(wanted, o.max_abs_tilt_deg);
+  if (wanted - tilt > 0.5 * field_deg) return false;
+  *upper = {below.pan_deg, tilt};
+  return true;
 }
 
 std::vector<StagePose> MakeCapturePlan(const Calibration& cal, const CapturePlanOptions& o) {

@@ -30,6 +30,10 @@ struct CapturePlanOptions {
   double far_range_m = 42.5;       // ground range the top image edge must reach
   double margin_deg = 5.0;         // the top edge looks this much above that ground point
   double max_abs_tilt_deg = 32.0;  // stage limit
+  // Poses higher up where the terrain goes on above a view (terrain_above_view.h): the
+  // capture decides them pose by pose and appends them to the plan.
+  bool upper_poses = true;
+  double row_overlap_deg = 6.0;  // an upper pose's view overlaps the one below by this much
   bool Check(std::string* why) const;
 };
 
@@ -38,6 +42,11 @@ struct CapturePlanOptions {
 double AutomaticTiltDeg(const Calibration& calibration, const CapturePlanOptions& options);
 // Nearest ground range seen by the bottom image edge at a given tilt (flat ground).
 double NearestGroundRangeM(const Calibration& calibration, double tilt_deg);
+
+// The pose above `below` on the same azimuth, its view overlapping by row_overlap_deg; none
+// (false) when that would pass the stage limit by more than half a view.
+bool UpperPose(const Calibration& calibration, const StagePose& below,
+               const CapturePlanOptions& options, StagePose* upper);
 
 // Throws std::invalid_argument when the options are invalid or a tilt exceeds the limit.
 std::vector<StagePose> MakeCapturePlan(const Calibration& calibration,

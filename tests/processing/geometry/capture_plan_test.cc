@@ -59,5 +59,28 @@ TEST(CapturePlan, RowsAndLimits) {
   EXPECT_THROW(MakeCapturePlan(PaperRig(), o), std::invalid_argument);
 }
 
+TEST(CapturePlan, UpperPoseOverlapsTheViewBelowAndStopsAtTheStageLimit) {
+  const Calibration cal = PaperRig();
+  const StagePose below{120.0, AutomaticTiltDeg(cal, {})};
+  StagePose upper;
+  ASSERT_TRUE(UpperPose(cal, below, {}, &upper));
+  EXPECT_DOUBLE_EQ(upper.pan_deg, 120.0);
+  // The paper's rig sees 31.1 deg vertically (1040 px at 12 mm, 6.45 um): the bottom edge of
+  // the upper view is 6 deg below the top edge of the view below.
+  const double field = 2 * std::atan(520.0 / (12.0e3 / 6.45)) * 180 / M_PI;
+  EXPECT_NEAR(upper.tilt_deg - below.tilt_deg, field - 6.0, 0.05);
+  // From there the next one would pass the 32 deg limit by 5.5 deg: it is clamped; from the
+  // limit there is nothing above.
+  StagePose top;
+  ASSERT_TRUE(UpperPose(cal, upper, {}, &top));
+  EXPECT_DOUBLE_EQ(top.tilt_deg, 32.0);
+  EXPECT_FALSE(UpperPose(cal, top, {}, &top));
+  CapturePlanOptions o;
+  o.row_overlap_deg = 25.0;
+  std::string why;
+  EXPECT_FALSE(o.Check(&why));
+  EXPECT_NE(why.find("row_overlap_deg"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ts
