@@ -6,6 +6,7 @@
 #include "processing/io/atomic_file.h"
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
+#include "processing/matching/terrain_above_view.h"
 
 namespace ts {
 
@@ -243,6 +244,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   if (!pan->homed() || !tilt->homed())
     if (Status s = stage.Home(o.home_timeout); !s) return Error{s.error()};
 
+  const Rectification rectification = Rectify(m->calibration.rig);  // for the upper poses
   if (Status s = stage.StartMove(m->plan[missing[0]]); !s) return Error{s.error()};
   for (size_t k = 0; k < missing.size(); ++k) {
     const int index = missing[k];
@@ -252,6 +254,17 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
     Result<PairFrames> frames = seq.TakePair(index, summary.total_pairs);
     if (!frames) return Error{frames.error()};
     frames->readback = *at;
+    // Terrain going on above this view: the pose above it is taken next. The plan grows in
+    // memory and is saved with this pair's commit, so a resume knows it.
+    if (ExtendPlanUpwards(m->calibration, rectification, frames->left.image, frames->right.image,
+                          m->plan[index], *at, o.plan, &m->plan)) {
+      missing.insert(missing.begin() + static_cast<long>(k) + 1,
+                     static_cast<int>(m->plan.size()) - 1);
+      summary.total_pairs = static_cast<int>(m->plan.size());
+      seq.Emit({CaptureEventKind::kUpperPose, index, summary.total_pairs,
+                "terrain goes on above the view: a pose higher up at tilt " +
+                    std::to_string(m->plan.back().tilt_deg) + " deg"});
+    }
     if (k + 1 < missing.size())  // the stage moves on while this pair is written
       if (Status s = stage.StartMove(m->plan[missing[k + 1]]); !s) return Error{s.error()};
     if (Status s = CommitPair(dir, index, m->plan[index], *frames, seq.exposure_us, o.gain_db, &*m);

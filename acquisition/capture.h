@@ -5,8 +5,9 @@
 //   for each pose not yet captured:
 //     wait in position (read back) -> trigger both cameras -> grab both -> verify (status,
 //     size, exposure; retake with a corrected exposure, both cameras locked together) ->
-//     start the move to the next pose -> write both images atomically -> commit the pair to
-//     the manifest
+//     if the terrain goes on above the view, append the pose above it to the plan and take it
+//     next (terrain_above_view.h) -> start the move to the next pose -> write both images
+//     atomically -> commit the pair (and the grown plan) to the manifest
 //
 // The stage moves while the pair just taken is written. The manifest is written before the
 // first pair and after every pair, so a capture stopped at any moment (power, kill -9, a lost
@@ -41,7 +42,15 @@ struct CaptureOptions {
   bool Check(std::string* why) const;
 };
 
-enum class CaptureEventKind { kStarted, kMoving, kPairCaptured, kRetake, kFrameRetry, kFinished };
+enum class CaptureEventKind {
+  kStarted,
+  kMoving,
+  kPairCaptured,
+  kRetake,
+  kFrameRetry,
+  kUpperPose,
+  kFinished
+};
 
 struct CaptureEvent {
   CaptureEventKind kind = CaptureEventKind::kStarted;

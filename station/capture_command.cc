@@ -22,6 +22,7 @@ struct CaptureArgs {
   bool mono16 = false;
   int azimuths = 12;
   double exposure_us = 8000.0;
+  bool single_row = false;
 };
 
 void Run(const CaptureArgs& args) {
@@ -29,6 +30,7 @@ void Run(const CaptureArgs& args) {
   if (!rig) throw CommandError(rig.error());
   CaptureOptions options;
   options.plan.azimuths = args.azimuths;
+  options.plan.upper_poses = !args.single_row;
   options.initial_exposure_us = args.exposure_us;
   options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
   const CaptureSummary s =
@@ -68,6 +70,8 @@ CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& out, bool
       std::fprintf(stderr, "\rpair %02d captured (%d pairs in the plan)", e.pair, e.total);
     if (e.kind == CaptureEventKind::kRetake)
       std::fprintf(stderr, "\npair %02d retaken: %s\n", e.pair, e.message.c_str());
+    if (e.kind == CaptureEventKind::kUpperPose)
+      std::fprintf(stderr, "\npair %02d: %s\n", e.pair, e.message.c_str());
     if (e.kind == CaptureEventKind::kFrameRetry)
       std::fprintf(stderr, "\npair %02d triggered again: %s\n", e.pair, e.message.c_str());
     if (e.kind == CaptureEventKind::kFinished) std::fprintf(stderr, "\n");
@@ -88,6 +92,8 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--azimuths", args->azimuths, "poses in the panorama (default 12)");
   cmd->add_option("--exposure-us", args->exposure_us, "starting exposure (default 8000)");
   cmd->add_flag("--mono16", args->mono16, "16-bit images");
+  cmd->add_flag("--single-row", args->single_row,
+                "no poses higher up where the terrain goes on above a view");
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { Run(*args); });
 }

@@ -37,6 +37,7 @@ struct RenderArgs {
   std::string out;
   sim::StationRenderOptions render;
   bool mono16 = false;
+  bool single_row = false;
 };
 
 void RunRender(const RenderArgs& args) {
@@ -44,6 +45,7 @@ void RunRender(const RenderArgs& args) {
   const auto station = Build(args.scene);
   sim::StationRenderOptions options = args.render;
   options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
+  options.plan.upper_poses = !args.single_row;
   const bool tty = ::isatty(STDERR_FILENO);
   const Status s = sim::RenderStationDirectory(
       *station, options, args.out, args.scene.truth_dir, [&](int done, int total) {
@@ -109,6 +111,8 @@ void AddSimCommand(CLI::App& app) {
   r->add_option("--supersampling", render->render.render.supersampling,
                 "samples per pixel along each axis (default 2)");
   r->add_flag("--mono16", render->mono16, "write Mono16 images instead of Mono8");
+  r->add_flag("--single-row", render->single_row,
+              "no poses higher up where the terrain goes on above a view");
   r->add_flag("--range", render->render.write_range_images,
               "also write the true range image of every view into the truth directory");
   r->callback([render] { RunRender(*render); });

@@ -30,6 +30,7 @@ struct SurveyArgs {
   // exposure control keeps a pair between 12 and 75 %). Measured on hills: DEM RMSE 0.193 /
   // 0.178 m from 4 / 7 ms, a second epoch under another sun 0.211 / 0.195 m.
   double exposure_us = 7000.0;
+  bool single_row = false;
   bool json = false;
 };
 
@@ -58,13 +59,16 @@ void RunSurvey(const SurveyArgs& args) {
   RigConfig rig;
   rig.name = "simulated-rig";
   rig.file = "(survey --sim)";
-  rig.calibration = (*station)->rig.nominal;  // what a rig knows before calibration
+  // The rig knows its calibration: the simulator's true one stands in for a field calibration
+  // (below); the capture needs it to judge where the terrain goes on above a view.
+  rig.calibration = args.nominal_calibration ? (*station)->rig.nominal : (*station)->rig.truth;
   rig.left_camera.id = serve.left_serial;
   rig.right_camera.id = serve.right_serial;
   rig.stage.host = serve.stage_address;
   rig.stage.port = serve.stage_port;
   CaptureOptions capture;
   capture.initial_exposure_us = args.exposure_us;
+  capture.plan.upper_poses = !args.single_row;
   const CaptureSummary captured = CaptureOrThrow(rig, args.out, false, capture, tty);
   server->reset();
 
@@ -111,7 +115,10 @@ void AddSurveyCommand(CLI::App& app) {
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
   s->add_option("--exposure-us", args->exposure_us, "starting exposure (default 7000)");
   s->add_flag("--nominal-calibration", args->nominal_calibration,
-              "process with the rig's design values instead of the simulator's true calibration");
+              "capture and process with the rig's design values instead of the simulator's true "
+              "calibration");
+  s->add_flag("--single-row", args->single_row,
+              "no poses higher up where the terrain goes on above a view");
   s->add_flag("--json", args->json, "print the summary as JSON");
   s->callback([args] { RunSurvey(*args); });
 }

@@ -14,7 +14,7 @@ namespace ts {
 struct PanoramaOptions {
   double deg_per_px = 0.2;  // 1800 px around: an overview (the raw images hold the detail)
   double min_elevation_deg = -60.0;
-  double max_elevation_deg = 20.0;
+  double max_elevation_deg = 50.0;  // upper poses (capture_plan.h) reach 32 + 15.5 deg
 };
 
 // 8-bit grey, cropped to the rows some image sees; black where no image sees.

@@ -9,11 +9,14 @@
 
 #include <chrono>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <thread>
 
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
 #include "sim/sim_server.h"
 #include "tests/common/temp_dir.h"
@@ -33,11 +36,12 @@ class CaptureTest : public ::testing::Test {
   }
 
   // Starts the simulated hardware with faults; the stage on a port of its own.
-  void Serve(int port, const sim::SimFaults& faults = {}) {
+  void Serve(int port, const sim::SimFaults& faults = {},
+             std::shared_ptr<const sim::SimStation> station = nullptr) {
     sim::SimServeOptions o;
     o.stage_port = port;
     o.faults = faults;
-    auto server = sim::SimServer::Start(station_, o);
+    auto server = sim::SimServer::Start(station ? station : station_, o);
     ASSERT_TRUE(server.ok()) << server.error();
     server_ = std::move(*server);
     port_ = port;
@@ -246,6 +250,66 @@ TEST_F(CaptureTest, KillNineAtRandomMomentsNeverLeavesABrokenStation) {
   const Result<StationManifest> done = ValidateStation(dir_ / "S", {.require_complete = true});
   ASSERT_TRUE(done.ok()) << done.error();
   EXPECT_EQ(done->pairs.size(), 6u);
+}
+
+// A slope: the uphill view's terrain rises out of the top of the image, so the capture takes a
+// pose above it, next. The capture is killed as soon as the uphill pair is stored: the plan
+// with its upper pose was committed with it, and resume takes exactly what is missing.
+TEST_F(CaptureTest, TerrainAboveAViewAddsAPoseAboveAndAKillThereIsResumed) {
+  sim::SimStationOptions options;
+  options.scene = "slope";
+  options.seed = 1;
+  const std::shared_ptr<const sim::SimStation> slope = *sim::BuildSimStation(options);
+  Serve(15158, {}, slope);
+  // A calibrated rig: the simulator's true calibration in place of the design values.
+  ASSERT_TRUE(SaveCalibrationYaml(slope->rig.truth, dir_ / "calibration.yaml").ok());
+  const std::string rig_file = WriteRig();
+  {
+    std::ifstream in(rig_file);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    text.erase(text.find("\ncalibration:\n") + 1);
+    std::ofstream(rig_file) << text << "calibration_file: calibration.yaml\n";
+  }
+  const std::string out = dir_ / "S";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // Two azimuths: pan 0 looks uphill on this slope, pan 180 down.
+    const char* argv[] = {TS_TOPOSTATION_EXE, "capture",    "--rig", rig_file.c_str(), "--out",
+                          out.c_str(),        "--azimuths", "2",     "--exposure-us",  "7000",
+                          "--json",           nullptr};
+    ::execv(argv[0], const_cast<char**>(argv));
+    ::_exit(127);
+  }
+  std::optional<StationManifest> partial;
+  for (int i = 0; i < 3000 && !partial; ++i) {  // up to a minute
+    std::this_thread::sleep_for(20ms);
+    const Result<StationManifest> m = LoadStationManifest(out);
+    if (m && m->plan.size() > 2) partial = *m;
+    if (m && m->pairs.size() > 1) break;  // too late: the pose above was not planned
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+  ASSERT_TRUE(partial) << "the uphill view did not ask for a pose above";
+  ASSERT_EQ(partial->plan.size(), 3u);
+  ASSERT_EQ(partial->pairs.size(), 1u);
+  EXPECT_EQ(partial->pairs[0].index, 0);
+  const StagePose planned = partial->plan[2];
+  EXPECT_DOUBLE_EQ(planned.pan_deg, partial->plan[0].pan_deg);
+  EXPECT_GT(planned.tilt_deg, partial->plan[0].tilt_deg + 20.0);
+  ASSERT_TRUE(ValidateStation(out).ok());
+
+  CaptureOptions o = Short(2);
+  o.initial_exposure_us = 7000;
+  const Result<CaptureSummary> second = Capture(rig_file, true, o);
+  ASSERT_TRUE(second.ok()) << second.error();
+  EXPECT_EQ(second->already_present, 1);
+  EXPECT_EQ(second->captured_now, 2);  // the pose above and the downhill one; nothing twice
+  const Result<StationManifest> done = ValidateStation(out, {.require_complete = true});
+  ASSERT_TRUE(done.ok()) << done.error();
+  ASSERT_EQ(done->plan.size(), 3u);
+  EXPECT_DOUBLE_EQ(done->plan[2].tilt_deg, planned.tilt_deg);
+  EXPECT_NEAR(done->FindPair(2)->readback.tilt_deg, planned.tilt_deg, 0.05);
+  EXPECT_EQ(done->FindPair(0)->left.sha256, partial->pairs[0].left.sha256);
 }
 
 TEST_F(CaptureTest, OverexposedStartIsRetakenWithBothCamerasOnOneExposure) {
