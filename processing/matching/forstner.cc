@@ -61,10 +61,20 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
   cv::boxFilter(gx.mul(gx), nxx, CV_32F, {k, k}, {-1, -1}, false);
   cv::boxFilter(gx.mul(gy), nxy, CV_32F, {k, k}, {-1, -1}, false);
   cv::boxFilter(gy.mul(gy), nyy, CV_32F, {k, k}, {-1, -1}, false);
-  cv::Mat det = nxx.mul(nyy) - nxy.mul(nxy);
-  cv::Mat trace = nxx + nyy + 1e-12f;
-  cv::Mat w = det / trace;
-  cv::Mat q = 4.0f * det / trace.mul(trace);
+  // w in one pass; q only where a candidate is looked at.
+  cv::Mat w(f.size(), CV_32F);
+  for (int y = 0; y < f.rows; ++y) {
+    const float* a = nxx.ptr<float>(y);
+    const float* b = nxy.ptr<float>(y);
+    const float* c = nyy.ptr<float>(y);
+    float* out = w.ptr<float>(y);
+    for (int x = 0; x < f.cols; ++x) out[x] = (a[x] * c[x] - b[x] * b[x]) / (a[x] + c[x] + 1e-12f);
+  }
+  const auto roundness = [&](int x, int y) {
+    const float a = nxx.at<float>(y, x), b = nxy.at<float>(y, x), c = nyy.at<float>(y, x);
+    const float trace = a + c + 1e-12f;
+    return 4.0f * (a * c - b * b) / (trace * trace);
+  };
   // Robust threshold: relative to the median weight of the image interior.
   const cv::Rect interior(o.border_px, o.border_px, std::max(1, f.cols - 2 * o.border_px),
                           std::max(1, f.rows - 2 * o.border_px));
@@ -79,17 +89,21 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
       std::max(1e-6f, static_cast<float>(o.min_weight_factor) * values[values.size() / 2]);
   // Local maxima (3 x 3), the strongest per cell, then no two closer than half a cell.
   cv::Mat dilated;
-  cv::dilate(w, dilated, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  if (o.local_maxima_only)
+    cv::dilate(w, dilated, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  const bool check_roundness = o.min_roundness > 0.0;
   std::vector<InterestPoint> points;
   for (int cy = o.border_px; cy < f.rows - o.border_px; cy += o.cell_px) {
     for (int cx = o.border_px; cx < f.cols - o.border_px; cx += o.cell_px) {
       int best_x = -1, best_y = -1;
       float best = threshold;
+      const int x_end = std::min(cx + o.cell_px, f.cols - o.border_px);
       for (int y = cy; y < std::min(cy + o.cell_px, f.rows - o.border_px); ++y) {
-        for (int x = cx; x < std::min(cx + o.cell_px, f.cols - o.border_px); ++x) {
-          const float v = w.at<float>(y, x);
+        const float* row = w.ptr<float>(y);
+        for (int x = cx; x < x_end; ++x) {
+          const float v = row[x];
           if (v >= best && (!o.local_maxima_only || v == dilated.at<float>(y, x)) &&
-              q.at<float>(y, x) >= o.min_roundness) {
+              (!check_roundness || roundness(x, y) >= o.min_roundness)) {
             best = v;
             best_x = x;
             best_y = y;
@@ -100,17 +114,18 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
       const Eigen::Vector2d at = o.subpixel
                                      ? Locate(gx, gy, best_x, best_y, o.locate_half_window_px)
                                      : Eigen::Vector2d(best_x, best_y);
-      points.push_back({at, best, q.at<float>(best_y, best_x)});
+      points.push_back({at, best, roundness(best_x, best_y)});
     }
   }
   // Strongest first; a point is kept unless a kept one lies within half a cell. Kept points
-  // are binned in half-cell buckets, so only the neighbouring buckets need looking at.
+  // are binned in half-cell buckets (a linked list per bucket, in two flat arrays), so only
+  // the neighbouring buckets need looking at.
   std::sort(points.begin(), points.end(),
             [](const InterestPoint& a, const InterestPoint& b) { return a.weight > b.weight; });
   const double min_distance = 0.5 * o.cell_px;
   const int bucket_cols = static_cast<int>(f.cols / min_distance) + 2;
   const int bucket_rows = static_cast<int>(f.rows / min_distance) + 2;
-  std::vector<std::vector<int>> buckets(static_cast<size_t>(bucket_cols) * bucket_rows);
+  std::vector<int> first(static_cast<size_t>(bucket_cols) * bucket_rows, -1), next;
   std::vector<InterestPoint> spread;
   for (const InterestPoint& p : points) {
     const int bx = static_cast<int>(p.position_px.x() / min_distance) + 1;
@@ -118,11 +133,13 @@ std::vector<InterestPoint> DetectForstner(const cv::Mat& image, const ForstnerOp
     bool far = true;
     for (int y = by - 1; y <= by + 1 && far; ++y)
       for (int x = bx - 1; x <= bx + 1 && far; ++x)
-        for (const int i : buckets[static_cast<size_t>(y) * bucket_cols + x])
-          far = far && (spread[i].position_px - p.position_px).squaredNorm() >=
-                           min_distance * min_distance;
+        for (int i = first[static_cast<size_t>(y) * bucket_cols + x]; i >= 0 && far; i = next[i])
+          far =
+              (spread[i].position_px - p.position_px).squaredNorm() >= min_distance * min_distance;
     if (!far) continue;
-    buckets[static_cast<size_t>(by) * bucket_cols + bx].push_back(static_cast<int>(spread.size()));
+    int& head = first[static_cast<size_t>(by) * bucket_cols + bx];
+    next.push_back(head);
+    head = static_cast<int>(spread.size());
     spread.push_back(p);
   }
   return spread;
