@@ -122,11 +122,12 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   // Wallis for finding points and searching; not for least-squares matching: its local gain
   // varies across a window differently in the two views where perspective differs (near
   // ground), a ramp LSM's linear radiometry cannot absorb (measured: -0.33 px bias below 8 m).
-  const cv::Mat left = Enhance(left_rect, o.enhance), right = Enhance(right_rect, o.enhance);
-  EnhanceOptions smooth_only = o.enhance;
+  EnhanceOptions smooth_only = o.enhance, wallis_only = o.enhance;
   smooth_only.wallis = false;
+  wallis_only.gaussian_sigma_px = 0.0;
   const cv::Mat lsm_left = Enhance(left_rect, smooth_only);
   const cv::Mat lsm_right = Enhance(right_rect, smooth_only);
+  const cv::Mat left = Enhance(lsm_left, wallis_only), right = Enhance(lsm_right, wallis_only);
   const ImageGradients gradients = ComputeGradients(lsm_left);
   s.enhance_s = SecondsSince(&clock);
 
@@ -168,17 +169,18 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     const int d = RefineFromMap(left_map, left, right, p.x, p.y, d_min, d_max, h, +1, &ncc);
     if (d < 0 || ncc < o.min_ncc) continue;
     ++s.ncc_accepted;
+    // Two-way: the right image's own search, from the matched position, must come home; first
+    // at the integer match (least squares only for points that do), then at the sub-pixel one.
+    double back_ncc = 0.0;
+    const int back =
+        RefineFromMap(right_map, right, left, p.x - d, p.y, d_min, d_max, h, -1, &back_ncc);
+    if (back < 0 || back_ncc < o.min_ncc || std::abs(back - d) > o.max_consistency_px) continue;
     const LsmResult lsm =
         MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y), o.lsm);
     if (!lsm.ok) continue;
     ++s.lsm_accepted;
-    // Two-way: the right image's own search, from the matched position, must come home.
     const double disparity = p.x - lsm.position_px.x();
-    const int ur = static_cast<int>(std::lround(lsm.position_px.x()));
-    double back_ncc = 0.0;
-    const int back = RefineFromMap(right_map, right, left, ur, p.y, d_min, d_max, h, -1, &back_ncc);
-    if (back < 0 || back_ncc < o.min_ncc || std::abs(back - disparity) > o.max_consistency_px + 0.5)
-      continue;
+    if (std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;
     ++s.consistent;
     if (o.min_spacing_m > 0.0) spacing.Take(p.x, p.y, approx);
     matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,

@@ -3,9 +3,10 @@
 //   enhance (Gaussian + Wallis) -> points on the left: Förstner (a grid of local maxima) or,
 //   in dense mode, every dense_step_px-th pixel -> approximate disparities from NCC on a
 //   pyramid, for the left and for the right image, within a depth range -> at full
-//   resolution NCC around the approximation -> least-squares matching (on the Gaussian-only
-//   images: see pair_matcher.cc) for the sub-pixel disparity and its sigma -> the right
-//   image's own search must lead back (two-way consistency).
+//   resolution NCC around the approximation -> the right image's own search must lead back
+//   (two-way consistency) -> least-squares matching (on the Gaussian-only images: see
+//   pair_matcher.cc) for the sub-pixel disparity and its sigma, which must agree with the way
+//   back too.
 // Coordinates are rectified pixels (rectification.h); depth = f B / disparity.
 #include <Eigen/Core>
 #include <string>
