@@ -29,6 +29,8 @@ bool ProcessOptions::Check(std::string* why) const {
     err = "matching: " + err;
   else if (!blunders.Check(&err))
     err = "blunder filter: " + err;
+  else if (!sight_lines.Check(&err))
+    err = "sight-line objects: " + err;
   else if (!ground.Check(&err))
     err = "ground filter: " + err;
   else if (!kriging.Check(&err))
@@ -143,16 +145,23 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
       region.push_back(p), region_index.push_back(static_cast<int>(i));
   }
   const std::vector<uint8_t> blunder = FindHeightBlunders(region, o.blunders);
-  std::vector<Eigen::Vector3d> kept;
-  std::vector<int> kept_index;
-  for (size_t i = 0; i < region.size(); ++i)
-    if (!blunder[i]) kept.push_back(region[i]), kept_index.push_back(region_index[i]);
 
   timer.Start("ground_filter");
+  std::map<int, Eigen::Vector3d> viewpoints;
+  for (const StereoPairImages& p : *pairs)
+    viewpoints[p.index] = calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg).translation();
+  const SightLineObjects seen = FindSightLineObjects(cloud, viewpoints, o.sight_lines);
+  std::vector<Eigen::Vector3d> kept;
+  std::vector<int> kept_index;
+  std::vector<uint8_t> class_of(cloud.size(), kOutsideDem);
+  for (size_t i = 0; i < region.size(); ++i) {
+    const int index = region_index[i];
+    class_of[index] = blunder[i] ? kBlunder : kObject;
+    if (!blunder[i] && !seen.floating[index] && !seen.on_face[index])
+      kept.push_back(region[i]), kept_index.push_back(index);
+  }
   const GroundFilterResult ground = FilterGround(kept, o.ground);
   std::vector<Eigen::Vector3d> ground_points;
-  std::vector<uint8_t> class_of(cloud.size(), kOutsideDem);
-  for (size_t i = 0; i < region_index.size(); ++i) class_of[region_index[i]] = kBlunder;
   for (size_t i = 0; i < kept.size(); ++i) {
     class_of[kept_index[i]] = ground.ground[i] ? kGround : kObject;
     if (ground.ground[i]) ground_points.push_back(kept[i]);
@@ -251,6 +260,8 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"points_near_square", region.size()},
                       {"blunders", blunders},
                       {"objects", objects},
+                      {"floating", seen.floating_count},
+                      {"on_faces", seen.face_count},
                       {"ground", ground_points.size()},
                       {"kriging_points", kriged.points_used}};
   nlohmann::json per_pair = nlohmann::json::array();

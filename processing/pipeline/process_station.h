@@ -1,8 +1,8 @@
 #pragma once
 // `process`: a captured station directory to its products (DESIGN.md "Processing pipeline"):
 //   load + check the raw pairs -> matching and intersection into L (all pairs) -> median-
-//   height blunder filter -> ground filter -> ordinary kriging at 1 m over the square around
-//   the station (optionally georeferenced with GCPs) -> products/:
+//   height blunder filter -> objects along the lines of sight -> ground filter -> kriging at 1 m
+//   over the square around the station (optionally georeferenced with GCPs) -> products/:
 //   points.ply, dem.tif, dem_std.tif, dem.png, panorama.png, terrain_correction.json,
 //   report.json.
 // Every product is written atomically; report.json is written last.
@@ -13,6 +13,7 @@
 #include "processing/cloud/ground_filter.h"
 #include "processing/cloud/height_blunder_filter.h"
 #include "processing/cloud/point_cloud.h"
+#include "processing/cloud/sight_line_objects.h"
 #include "processing/common/result.h"
 #include "processing/dem/kriging.h"
 #include "processing/gravity/terrain_correction.h"
@@ -38,6 +39,7 @@ struct ProcessOptions {
     return m;
   }();
   HeightBlunderOptions blunders;
+  SightLineOptions sight_lines;
   // The ground filter tuned for a tripod's cloud (measured on the simulated forest: object
   // points > 0.5 m removed 87 % with the airborne defaults, 98.5 % with these; hills and flat
   // unchanged): a tighter band around the ground and a smaller slope allowance (the near

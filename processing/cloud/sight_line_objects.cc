@@ -1,0 +1,131 @@
+#include "processing/cloud/sight_line_objects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace ts {
+
+bool SightLineOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(azimuth_bin_deg > 0.0 && azimuth_bin_deg <= 5.0) ||
+      !(face_bin_deg > 0.0 && face_bin_deg <= 5.0))
+    err = "azimuth_bin_deg and face_bin_deg must be in (0, 5]";
+  else if (!(min_gap_m >= 0.0) || !(sigma_factor >= 0.0))
+    err = "min_gap_m and sigma_factor must not be negative";
+  else if (min_witnesses < 1 || min_witnesses > 8)
+    err = "min_witnesses must be in [1, 8]";
+  else if (!(face_min_below_deg >= 0.0 && face_max_below_deg > face_min_below_deg))
+    err = "need 0 <= face_min_below_deg < face_max_below_deg";
+  else if (min_face_rays < 1)
+    err = "min_face_rays must be at least 1";
+  else if (!(max_terrain_inclination_deg > 0.0 && max_terrain_inclination_deg < 90.0))
+    err = "max_terrain_inclination_deg must be in (0, 90)";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+namespace {
+
+constexpr double kRadPerDeg = M_PI / 180.0;
+
+struct Ray {
+  double elevation;  // rad
+  double distance;   // horizontal, m
+  double height;     // above the viewpoint, m
+  double sigma;      // of the horizontal distance, m
+  size_t index;
+  bool operator<(const Ray& other) const { return elevation < other.elevation; }
+};
+
+// Rays grouped by (pair, azimuth bin), each group sorted by elevation.
+std::vector<std::vector<Ray>> Bins(const PointCloud& cloud,
+                                   const std::map<int, Eigen::Vector3d>& viewpoints,
+                                   double bin_deg) {
+  const double bin = bin_deg * kRadPerDeg;
+  std::unordered_map<int64_t, std::vector<Ray>> bins;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const auto viewpoint = viewpoints.find(cloud[i].pair);
+    if (viewpoint == viewpoints.end()) continue;
+    const Eigen::Vector3d d = cloud[i].position_m - viewpoint->second;
+    const double distance = d.head<2>().norm();
+    if (!(distance > 0.0)) continue;
+    // Sigma of the horizontal distance: the covariance along the line of sight.
+    const Eigen::Vector2d along = d.head<2>() / distance;
+    const double variance =
+        along.dot(cloud[i].covariance_m2.topLeftCorner<2, 2>().cast<double>() * along);
+    const auto az = static_cast<int64_t>(std::floor((std::atan2(d.y(), d.x()) + M_PI) / bin));
+    bins[(static_cast<int64_t>(cloud[i].pair) << 32) | az].push_back(
+        {std::atan2(d.z(), distance), distance, d.z(), std::sqrt(std::max(0.0, variance)), i});
+  }
+  std::vector<std::vector<Ray>> out;
+  out.reserve(bins.size());
+  for (auto& [key, rays] : bins) {
+    std::sort(rays.begin(), rays.end());
+    out.push_back(std::move(rays));
+  }
+  return out;
+}
+
+}  // namespace
+
+SightLineObjects FindSightLineObjects(const PointCloud& cloud,
+                                      const std::map<int, Eigen::Vector3d>& viewpoints,
+                                      const SightLineOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("sight-line objects: " + why);
+  SightLineObjects result;
+  result.floating.assign(cloud.size(), 0);
+  result.on_face.assign(cloud.size(), 0);
+
+  std::vector<double> farthest;  // witnesses so far, largest first
+  for (const std::vector<Ray>& rays : Bins(cloud, viewpoints, o.azimuth_bin_deg)) {
+    farthest.assign(o.min_witnesses, -INFINITY);
+    for (const Ray& r : rays) {
+      if (farthest.back() > r.distance + std::max(o.min_gap_m, o.sigma_factor * r.sigma)) {
+        result.floating[r.index] = 1;
+        ++result.floating_count;
+      }
+      // This ray as a witness for the ones above: its distance less its own uncertainty.
+      const double witness = r.distance - o.sigma_factor * r.sigma;
+      if (witness > farthest.back()) {
+        farthest.back() = witness;
+        std::sort(farthest.begin(), farthest.end(), std::greater<double>());
+      }
+    }
+  }
+
+  const double steepest = std::tan(o.max_terrain_inclination_deg * kRadPerDeg);
+  const double min_below = o.face_min_below_deg * kRadPerDeg;
+  const double max_below = o.face_max_below_deg * kRadPerDeg;
+  std::vector<double> rise, run;
+  for (const std::vector<Ray>& rays : Bins(cloud, viewpoints, o.face_bin_deg)) {
+    size_t first = 0;
+    for (size_t k = 0; k < rays.size(); ++k) {
+      const Ray& p = rays[k];
+      while (first < k && rays[first].elevation < p.elevation - max_below) ++first;
+      rise.clear();
+      run.clear();
+      for (size_t j = first; j < k && rays[j].elevation <= p.elevation - min_below; ++j) {
+        rise.push_back(p.height - rays[j].height);
+        run.push_back(p.distance - rays[j].distance);
+      }
+      if (static_cast<int>(rise.size()) < o.min_face_rays) continue;
+      const auto middle = [](std::vector<double>* v) {
+        std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
+        return (*v)[v->size() / 2];
+      };
+      const double dz = middle(&rise), dd = middle(&run);
+      if (dz > 0.0 && dd * steepest < dz && !result.on_face[p.index]) {
+        result.on_face[p.index] = 1;
+        ++result.face_count;
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace ts
