@@ -1,5 +1,6 @@
 #include "processing/matching/terrain_above_view.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,7 +62,8 @@ TerrainAboveVerdict JudgeTerrainAboveView(const Calibration& cal, const Rectific
   int columns = 0, terrain = 0;
   for (int x = 0; x < map.disparity.cols; ++x) {
     // Columns outside the original image at the band's rows do not count.
-    const int u = static_cast<int>((x + 0.5) * scale), v = static_cast<int>(band * scale / 2);
+    const int u = std::min(static_cast<int>((x + 0.5) * scale), r.left_map_x.cols - 1);
+    const int v = std::min(static_cast<int>(band * scale / 2), r.left_map_x.rows - 1);
     if (r.left_map_x.at<float>(v, u) < 0.0f) continue;
     ++columns;
     Eigen::Vector3d top = Eigen::Vector3d::Zero(), bottom = Eigen::Vector3d::Zero();
