@@ -1,5 +1,6 @@
-// topostation capture --rig RIG.yaml --out STATION [--resume]: the 12-pair panorama over the
-// real drivers (Aravis cameras, Modbus stage) into a station directory.
+// topostation capture --rig RIG.yaml --out STATION [--resume] [--single-row]: the panorama
+// (12 pairs, and the poses above uphill views) over the real drivers (Aravis cameras, Modbus
+// stage) into a station directory.
 #include <unistd.h>
 
 #include <cstdio>

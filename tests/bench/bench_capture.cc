@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
       (std::filesystem::temp_directory_path() / "topostation-bench-capture").string();
   std::filesystem::remove_all(dir);
   CaptureOptions options;
+  options.plan.upper_poses = false;  // the 12 poses of the row, always
   options.initial_exposure_us = 4000;
   const Result<CaptureSummary> s =
       CaptureStation(**stage, **left, **right, *rig, dir, false, options);
