@@ -42,6 +42,7 @@ struct ProcessOptions {
     PairMatchOptions m;
     m.min_spacing_m = 0.2;
     m.lsm.half_window_px = 8;
+    m.lsm.max_sigma_px = 0.1;  // as measured above (smaller windows, larger sigmas)
     return m;
   }();
   HeightBlunderOptions blunders;
