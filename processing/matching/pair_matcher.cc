@@ -131,12 +131,9 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   const ImageGradients gradients = ComputeGradients(lsm_left);
   s.enhance_s = SecondsSince(&clock);
 
-  const double fb = r.focal_px * r.baseline_m;
   const bool explicit_range = o.max_disparity_px >= 0;
-  const int d_min = explicit_range ? o.min_disparity_px
-                                   : std::max(0, static_cast<int>(std::floor(fb / o.max_depth_m)));
-  const int d_max =
-      explicit_range ? o.max_disparity_px : static_cast<int>(std::ceil(fb / o.min_depth_m));
+  const int d_min = explicit_range ? o.min_disparity_px : r.MinDisparityPx(o.max_depth_m);
+  const int d_max = explicit_range ? o.max_disparity_px : r.MaxDisparityPx(o.min_depth_m);
   // Approximations for both images: the right one as the mirror image of the problem.
   const DisparityMap left_map =
       MatchPyramid(left, right, d_min, d_max, o.dense_finest_level, o.pyramid);

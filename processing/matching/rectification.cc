@@ -1,6 +1,7 @@
 #include "processing/matching/rectification.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -94,6 +95,14 @@ Rectification Rectify(const StereoRig& rig) {
   BuildMaps(CameraModel(rig.left), r.left_from_rect, r, &r.left_map_x, &r.left_map_y);
   BuildMaps(CameraModel(rig.right), r.right_from_rect, r, &r.right_map_x, &r.right_map_y);
   return r;
+}
+
+int Rectification::MinDisparityPx(double max_depth_m) const {
+  return std::max(0, static_cast<int>(std::floor(focal_px * baseline_m / max_depth_m)));
+}
+
+int Rectification::MaxDisparityPx(double min_depth_m) const {
+  return static_cast<int>(std::ceil(focal_px * baseline_m / min_depth_m));
 }
 
 void RectifyPair(const Rectification& r, const cv::Mat& left, const cv::Mat& right,

@@ -30,6 +30,9 @@ struct Rectification {
   double DepthFromDisparity(double disparity_px) const {
     return focal_px * baseline_m / disparity_px;
   }
+  // The whole-pixel disparities to search for depths from min_depth_m to max_depth_m.
+  int MinDisparityPx(double max_depth_m) const;
+  int MaxDisparityPx(double min_depth_m) const;
 };
 
 // Rectified images keep the original size; the focal length is the smaller of the two

@@ -7,6 +7,7 @@
 #include "processing/geometry/rotation.h"
 #include "processing/matching/enhance.h"
 #include "processing/matching/pyramid_ncc.h"
+#include "processing/matching/triangulation.h"
 
 namespace ts {
 
@@ -38,22 +39,24 @@ TerrainAboveVerdict JudgeTerrainAboveView(const Calibration& cal, const Rectific
   RectifyPair(r, left_raw, right_raw, &left_rect, &right_rect);
   const EnhanceOptions enhance;
   const cv::Mat left = Enhance(left_rect, enhance), right = Enhance(right_rect, enhance);
-  const double fb = r.focal_px * r.baseline_m;
-  const int d_min = std::max(0, static_cast<int>(std::floor(fb / o.max_depth_m)));
-  const int d_max = static_cast<int>(std::ceil(fb / o.min_depth_m));
-  const DisparityMap map = MatchPyramid(left, right, d_min, d_max, o.level, PyramidNccOptions{});
+  const DisparityMap map =
+      MatchPyramid(left, right, r.MinDisparityPx(o.max_depth_m), r.MaxDisparityPx(o.min_depth_m),
+                   o.level, PyramidNccOptions{});
 
-  const double scale = 1 << map.level;
+  const int scale = 1 << map.level;
   const Eigen::Isometry3d L_from_left = cal.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
   const Eigen::Matrix3d rotation = L_from_left.linear() * r.left_from_rect;
-  // A map pixel's point in L, if it has a disparity worth believing.
+  // A map pixel's point in L (intersected as a full-resolution match), if it has a disparity
+  // worth believing.
   auto point = [&](int x, int y, Eigen::Vector3d* p) {
     const int d = map.disparity.at<int16_t>(y, x);
     if (d <= 0 || map.score.at<float>(y, x) < o.min_ncc) return false;
-    const double u = (x + 0.5) * scale - 0.5, v = (y + 0.5) * scale - 0.5;
-    const double depth = fb / (d * scale);
-    const Eigen::Vector3d in_rect((u - r.principal_point_px.x()) * depth / r.focal_px,
-                                  (v - r.principal_point_px.y()) * depth / r.focal_px, depth);
+    StereoMatch match;
+    match.left_px = {(x + 0.5) * scale - 0.5, (y + 0.5) * scale - 0.5};
+    match.disparity_px = d * scale;
+    Eigen::Vector3d in_rect;
+    Eigen::Matrix3d covariance;
+    if (!TriangulateRectified(r, match, &in_rect, &covariance)) return false;
     *p = L_from_left.translation() + rotation * in_rect;
     return true;
   };
