@@ -75,10 +75,6 @@ std::vector<std::vector<Ray>> Bins(const PointCloud& cloud,
   return out;
 }
 
-}  // namespace
-
-namespace {
-
 void FindFloating(const std::vector<std::vector<Ray>>& bins, const SightLineOptions& o,
                   SightLineObjects* result) {
   std::vector<double> farthest;  // witnesses so far, largest first
