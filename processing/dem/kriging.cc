@@ -27,16 +27,23 @@ bool KrigingOptions::Check(std::string* why) const {
   return false;
 }
 
-std::vector<Eigen::Vector3d> ThinPoints(const std::vector<Eigen::Vector3d>& points, double cell_m) {
+KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
   if (!(cell_m > 0.0)) return points;
-  const GridIndex grid(points, cell_m);
-  std::vector<Eigen::Vector3d> thinned;
+  const bool weighted = !points.height_variances_m2.empty();
+  const GridIndex grid(points.positions, cell_m);
+  KrigingPoints thinned;
   for (int r = 0; r < grid.rows(); ++r)
     for (int c = 0; c < grid.cols(); ++c) {
-      if (grid.Count(c, r) == 0) continue;
+      const int count = grid.Count(c, r);
+      if (count == 0) continue;
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) sum += points[*i];
-      thinned.push_back(sum / grid.Count(c, r));
+      double variance_sum = 0.0;
+      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
+        sum += points.positions[*i];
+        if (weighted) variance_sum += points.height_variances_m2[*i];
+      }
+      thinned.positions.push_back(sum / count);
+      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count / count);
     }
   return thinned;
 }
@@ -90,10 +97,14 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
 
 }  // namespace
 
-void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel& model,
+void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
                const KrigingOptions& o, Raster* dem, Raster* std_dev) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
+  const std::vector<Eigen::Vector3d>& points = kriging_points.positions;
+  const std::vector<double>& variances = kriging_points.height_variances_m2;
+  if (!variances.empty() && variances.size() != points.size())
+    throw std::invalid_argument("KrigeOnto: one height variance per point, or none");
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
@@ -114,7 +125,9 @@ void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel&
         Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
         for (int i = 0; i < n; ++i) {
           const Eigen::Vector3d& p = points[near[i].index];
-          a(i, i) = model.Sill();
+          a(i, i) =
+              model.partial_sill +
+              (variances.empty() ? model.nugget : std::max(model.nugget, variances[near[i].index]));
           for (int j = i + 1; j < n; ++j) {
             const Eigen::Vector3d& q = points[near[j].index];
             a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));
@@ -139,14 +152,16 @@ void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel&
   });
 }
 
-KrigingResult KrigeDem(const std::vector<Eigen::Vector3d>& points, const Raster& grid,
-                       const KrigingOptions& o) {
+KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const KrigingOptions& o) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
+  if (!points.height_variances_m2.empty() &&
+      points.height_variances_m2.size() != points.positions.size())
+    throw std::invalid_argument("KrigeDem: one height variance per point, or none");
   KrigingResult result;
-  const std::vector<Eigen::Vector3d> thinned = ThinPoints(points, o.thin_cell_m);
-  result.points_used = thinned.size();
-  result.experimental = ComputeExperimentalVariogram(thinned, o.variogram);
+  const KrigingPoints thinned = ThinPoints(points, o.thin_cell_m);
+  result.points_used = thinned.positions.size();
+  result.experimental = ComputeExperimentalVariogram(thinned.positions, o.variogram);
   result.model = FitVariogram(result.experimental);
   result.dem = grid;
   KrigeOnto(thinned, result.model, o, &result.dem, &result.std);

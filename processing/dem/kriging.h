@@ -13,6 +13,10 @@
 // where it was not seen instead of inventing terrain. Dense clouds are thinned first to the mean
 // point of each thin_cell_m square (averaging the matching noise; the variogram and the
 // neighbourhood then see the terrain, not the sampling).
+// Points may carry their own height variance (from the intersection's covariance): a point's
+// nugget is then the larger of the fitted nugget and its own variance, so a few noisy far points
+// weigh less and the sigma of the cells they alone support says so. The fitted nugget is what
+// the dense, near points show; it is over-confident for the sparse, far ones.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -46,17 +50,24 @@ struct KrigingResult {
   size_t points_used = 0;  // after thinning
 };
 
-// Thins the points to one mean point per thin_cell_m square.
-std::vector<Eigen::Vector3d> ThinPoints(const std::vector<Eigen::Vector3d>& points, double cell_m);
+// Points to krige; height_variances_m2 is empty (all alike: the fitted nugget) or one per point.
+struct KrigingPoints {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<double> height_variances_m2;
+};
+
+// Thins the points to one mean point per thin_cell_m square; the mean's variance is the
+// members' mean variance over their count.
+KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m);
 
 // Fits the variogram to the (thinned) points and krige onto `grid` (its geometry is used;
 // its values are overwritten).
-KrigingResult KrigeDem(const std::vector<Eigen::Vector3d>& points, const Raster& grid,
+KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid,
                        const KrigingOptions& options);
 
 // Kriging with a given model at given points (no thinning); nodata beyond max_distance_m.
 // The two rasters are filled on `grid`'s geometry.
-void KrigeOnto(const std::vector<Eigen::Vector3d>& points, const VariogramModel& model,
+void KrigeOnto(const KrigingPoints& points, const VariogramModel& model,
                const KrigingOptions& options, Raster* dem, Raster* std);
 
 }  // namespace ts

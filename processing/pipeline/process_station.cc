@@ -161,10 +161,12 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
       kept.push_back(region[i]), kept_index.push_back(index);
   }
   const GroundFilterResult ground = FilterGround(kept, o.ground);
-  std::vector<Eigen::Vector3d> ground_points;
+  KrigingPoints ground_points;
   for (size_t i = 0; i < kept.size(); ++i) {
     class_of[kept_index[i]] = ground.ground[i] ? kGround : kObject;
-    if (ground.ground[i]) ground_points.push_back(kept[i]);
+    if (!ground.ground[i]) continue;
+    ground_points.positions.push_back(kept[i]);
+    ground_points.height_variances_m2.push_back(cloud[kept_index[i]].covariance_m2(2, 2));
   }
 
   timer.Start("kriging");
@@ -172,7 +174,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   Eigen::Vector2d station_xy = mark_l.head<2>();
   std::string crs_wkt;
   if (georeference) {
-    for (Eigen::Vector3d& p : ground_points) p = georeference->ToWorld(p);
+    for (Eigen::Vector3d& p : ground_points.positions) p = georeference->ToWorld(p);
     station_xy = georeference->ToWorld(mark_l).head<2>();
     crs_wkt = georeference->crs_wkt;
   }
@@ -262,7 +264,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"objects", objects},
                       {"floating", seen.floating_count},
                       {"on_faces", seen.face_count},
-                      {"ground", ground_points.size()},
+                      {"ground", ground_points.positions.size()},
                       {"kriging_points", kriged.points_used}};
   nlohmann::json per_pair = nlohmann::json::array();
   for (size_t i = 0; i < matched.pairs.size(); ++i) {

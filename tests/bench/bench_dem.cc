@@ -117,9 +117,9 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   const DemEvaluation e = EvaluateDem(r.dem, truth, mark, &r.dem_std);
 
   // Nearest neighbour (kriging with one neighbour) on the same thinned ground points.
-  std::vector<Eigen::Vector3d> ground;
+  KrigingPoints ground;
   for (size_t i = 0; i < r.cloud.size(); ++i)
-    if (r.point_class[i] == kGround) ground.push_back(r.cloud[i].position_m);
+    if (r.point_class[i] == kGround) ground.positions.push_back(r.cloud[i].position_m);
   KrigingOptions nearest_options = process.kriging;
   nearest_options.neighbours = 1;
   Raster nearest = r.dem, unused;

@@ -18,14 +18,57 @@ VariogramModel Linearish() {  // spherical, 2 m^2 sill, 50 m range: gamma(h) nea
 
 Raster OneCell(double x, double y) { return Raster::Make(x - 0.5, y + 0.5, 1.0, 1, 1); }
 
+KrigingPoints Alike(std::vector<Eigen::Vector3d> positions) { return {std::move(positions), {}}; }
+
 // One point at distance d: lambda = 1, mu = gamma(d), sigma^2 = 2 gamma(d).
 TEST(Kriging, OnePointGivesItsHeightAndTwiceTheSemivariance) {
   const VariogramModel m = Linearish();
   Raster dem = OneCell(0, 0), std_dev;
   KrigingOptions o;
-  KrigeOnto({{1.5, 2.0, 7.25}}, m, o, &dem, &std_dev);
+  KrigeOnto(Alike({{1.5, 2.0, 7.25}}), m, o, &dem, &std_dev);
   EXPECT_NEAR(dem.at(0, 0), 7.25, 1e-5);
   EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(2.0 * m(2.5)), 1e-5);
+}
+
+// A point with its own height variance v (above the model's nugget, here none): lambda = 1,
+// sigma^2 = 2 gamma(d) + v: the cell cannot be known better than the one point that supports it.
+TEST(Kriging, APointsOwnVarianceAddsToTheCellsVariance) {
+  const VariogramModel m = Linearish();
+  Raster dem = OneCell(0, 0), std_dev;
+  KrigeOnto({{{1.5, 2.0, 7.25}}, {0.09}}, m, KrigingOptions{}, &dem, &std_dev);
+  EXPECT_NEAR(dem.at(0, 0), 7.25, 1e-5);
+  EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(2.0 * m(2.5) + 0.09), 1e-5);
+}
+
+// Two points symmetric about the cell centre, one noisy (variance v): with c = C(2d) and p the
+// partial sill, lambda_noisy = (p - c) / (2 (p - c) + v), mu = C(d) - lambda_noisy (p + v) -
+// (1 - lambda_noisy) c; the noisy point weighs less and the variance grows.
+TEST(Kriging, ANoisyPointWeighsLessThanAnExactOne) {
+  const VariogramModel m = Linearish();
+  const double v = 0.2, p = m.partial_sill, c = m.SignalCovariance(4.0),
+               c1 = m.SignalCovariance(2.0);
+  const double noisy = (p - c) / (2 * (p - c) + v), mu = c1 - noisy * (p + v) - (1 - noisy) * c;
+  Raster dem = OneCell(10, 20), std_dev;
+  KrigeOnto({{{8, 20, 1.0}, {12, 20, 3.0}}, {v, 0.0}}, m, KrigingOptions{}, &dem, &std_dev);
+  EXPECT_NEAR(dem.at(0, 0), noisy * 1.0 + (1 - noisy) * 3.0, 1e-5);
+  EXPECT_GT(dem.at(0, 0), 2.1);
+  EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(p - c1 - mu), 1e-5);
+  EXPECT_GT(std_dev.at(0, 0), std::sqrt(2.0 * m(2.0) - 0.5 * m(4.0)));
+}
+
+// The mean of n points in a thinning cell has their mean variance over n.
+TEST(Kriging, ThinningAveragesPositionsAndDividesTheVariance) {
+  const KrigingPoints thinned =
+      ThinPoints({{{0.1, 0.1, 1.0}, {0.2, 0.1, 2.0}, {0.3, 0.2, 3.0}, {5.1, 5.1, 7.0}},
+                  {0.03, 0.06, 0.09, 0.04}},
+                 0.5);
+  ASSERT_EQ(thinned.positions.size(), 2u);
+  ASSERT_EQ(thinned.height_variances_m2.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    const bool first = thinned.positions[i].x() < 1.0;
+    EXPECT_NEAR(thinned.positions[i].z(), first ? 2.0 : 7.0, 1e-12);
+    EXPECT_NEAR(thinned.height_variances_m2[i], first ? 0.06 / 3 : 0.04, 1e-12);
+  }
 }
 
 // Two points symmetric about the cell centre: lambda = 1/2 each, mu = gamma(d) - gamma(2d)/2,
@@ -33,7 +76,7 @@ TEST(Kriging, OnePointGivesItsHeightAndTwiceTheSemivariance) {
 TEST(Kriging, TwoSymmetricPointsAreAveragedWithTheKnownVariance) {
   const VariogramModel m = Linearish();
   Raster dem = OneCell(10, 20), std_dev;
-  KrigeOnto({{8, 20, 1.0}, {12, 20, 3.0}}, m, KrigingOptions{}, &dem, &std_dev);
+  KrigeOnto(Alike({{8, 20, 1.0}, {12, 20, 3.0}}), m, KrigingOptions{}, &dem, &std_dev);
   EXPECT_NEAR(dem.at(0, 0), 2.0, 1e-5);
   EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(2.0 * m(2.0) - 0.5 * m(4.0)), 1e-5);
 }
@@ -45,12 +88,12 @@ TEST(Kriging, HonoursDataAndReproducesAPlane) {
   for (double x = -10; x <= 10; x += 1.0)
     for (double y = -10; y <= 10; y += 1.0) points.emplace_back(x, y, 100 + 0.3 * x - 0.2 * y);
   Raster dem = Raster::Make(-5, 5, 1.0, 10, 10), std_dev;
-  KrigeOnto(points, Linearish(), KrigingOptions{}, &dem, &std_dev);
+  KrigeOnto(Alike(points), Linearish(), KrigingOptions{}, &dem, &std_dev);
   for (int r = 0; r < 10; ++r)
     for (int c = 0; c < 10; ++c)
       EXPECT_NEAR(dem.at(r, c), 100 + 0.3 * dem.CellCentreX(c) - 0.2 * dem.CellCentreY(r), 1e-3);
   Raster at_point = OneCell(3, 4), s;
-  KrigeOnto(points, Linearish(), KrigingOptions{}, &at_point, &s);
+  KrigeOnto(Alike(points), Linearish(), KrigingOptions{}, &at_point, &s);
   EXPECT_NEAR(at_point.at(0, 0), 100 + 0.9 - 0.8, 1e-4);
   EXPECT_NEAR(s.at(0, 0), 0.0, 2e-3);
 }
@@ -65,11 +108,11 @@ TEST(Kriging, LinearDriftBridgesAGapOnASlope) {
   KrigingOptions o;
   o.max_distance_m = 10.0;
   Raster dem = Raster::Make(0.0, 0.5, 1.0, 4, 1), s;  // cells at x = 0.5, 1.5, 2.5, 3.5
-  KrigeOnto(points, Linearish(), o, &dem, &s);
+  KrigeOnto(Alike(points), Linearish(), o, &dem, &s);
   for (int c = 0; c < 4; ++c) EXPECT_NEAR(dem.at(0, c), 0.3 * dem.CellCentreX(c), 1e-3) << c;
   for (int c = 1; c < 4; ++c) EXPECT_GT(s.at(0, c), s.at(0, c - 1));
   o.linear_drift = false;
-  KrigeOnto(points, Linearish(), o, &dem, &s);
+  KrigeOnto(Alike(points), Linearish(), o, &dem, &s);
   EXPECT_LT(dem.at(0, 3), 0.3 * 3.5 - 0.5);
 }
 
@@ -77,7 +120,7 @@ TEST(Kriging, CellsFarFromEveryPointAreNodata) {
   Raster dem = Raster::Make(0, 10, 1.0, 10, 1), std_dev;
   KrigingOptions o;
   o.max_distance_m = 3.0;
-  KrigeOnto({{0.5, 9.5, 1.0}}, Linearish(), o, &dem, &std_dev);
+  KrigeOnto(Alike({{0.5, 9.5, 1.0}}), Linearish(), o, &dem, &std_dev);
   EXPECT_FALSE(Raster::IsNoData(dem.at(0, 0)));
   EXPECT_FALSE(Raster::IsNoData(dem.at(0, 3)));  // 3.0 m away
   EXPECT_TRUE(Raster::IsNoData(dem.at(0, 4)));   // 4.0 m away
@@ -96,7 +139,8 @@ TEST(Kriging, FittedKrigingOfANoisySurfaceIsAccurateAndHonest) {
     const double x = u(rng), y = u(rng);
     points.emplace_back(x, y, terrain(x, y) + noise(rng));
   }
-  const KrigingResult k = KrigeDem(points, Raster::Make(-25, 25, 1.0, 50, 50), KrigingOptions{});
+  const KrigingResult k =
+      KrigeDem(Alike(points), Raster::Make(-25, 25, 1.0, 50, 50), KrigingOptions{});
   double sum2 = 0, sum_var = 0;
   int n = 0;
   for (int r = 0; r < 50; ++r)
@@ -119,7 +163,10 @@ TEST(Kriging, RejectsBadOptions) {
   EXPECT_FALSE(o.Check(&why));
   EXPECT_NE(why.find("neighbours"), std::string::npos);
   Raster dem = OneCell(0, 0), s;
-  EXPECT_THROW(KrigeOnto({}, Linearish(), o, &dem, &s), std::invalid_argument);
+  EXPECT_THROW(KrigeOnto(Alike({}), Linearish(), o, &dem, &s), std::invalid_argument);
+  const KrigingPoints short_of_variances{{{0, 0, 1}, {1, 0, 1}}, {0.01}};
+  EXPECT_THROW(KrigeOnto(short_of_variances, Linearish(), KrigingOptions{}, &dem, &s),
+               std::invalid_argument);
 }
 
 }  // namespace
