@@ -42,8 +42,16 @@ WindowStats Stats(const cv::Mat& image, int h) {
 }
 
 // Full search of [d_min, d_max] for every pixel.
-void SearchAll(const cv::Mat& left, const cv::Mat& right, int d_min, int d_max, int h,
-               cv::Mat* disparity, cv::Mat* score) {
+void SearchAll(const cv::Mat& left_image, const cv::Mat& right_image, int d_min, int d_max, int h,
+               cv::Mat* disparity_out, cv::Mat* score_out) {
+  // Both images go on h columns past their right edge (replicated), so that the windows of the
+  // last columns are whole; the maps are cut back to the image at the end.
+  cv::Mat left, right;
+  cv::copyMakeBorder(left_image, left, 0, 0, 0, h, cv::BORDER_REPLICATE);
+  cv::copyMakeBorder(right_image, right, 0, 0, 0, h, cv::BORDER_REPLICATE);
+  cv::Mat padded_disparity, padded_score;
+  cv::Mat* disparity = &padded_disparity;
+  cv::Mat* score = &padded_score;
   const float n = static_cast<float>((2 * h + 1) * (2 * h + 1));
   const WindowStats ls = Stats(left, h), rs = Stats(right, h);
   disparity->create(left.size(), CV_16SC1);
@@ -77,6 +85,9 @@ void SearchAll(const cv::Mat& left, const cv::Mat& right, int d_min, int d_max, 
       }
     }
   }
+  const cv::Rect image(0, 0, left_image.cols, left_image.rows);
+  padded_disparity(image).copyTo(*disparity_out);
+  padded_score(image).copyTo(*score_out);
 }
 
 // Refinement of per-pixel hypotheses by +-radius, each window under its pixels' own

@@ -8,9 +8,9 @@
 //     upsampled) coarser disparity. The window of a pixel is compared with the right image
 //     under each neighbour's own hypothesis, so on a slanted surface (near ground) the
 //     window follows the slant instead of assuming a constant disparity.
-// Windows at the top and bottom rows take the border rows again (replicated), so every row
-// has an approximation: a top-level window reaches 3 x 16 px at full resolution, and the top
-// rows of a view are the far ground. Across, windows must lie inside both images.
+// Windows at the top and bottom rows and the last columns take the border pixels again
+// (replicated), so that they have approximations too: a top-level window reaches 3 x 16 px
+// at full resolution, and the top rows of a view are the far ground.
 // The maps are approximations for least-squares matching, which decides what is accepted.
 #include <opencv2/core.hpp>
 #include <string>
