@@ -77,7 +77,8 @@ bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, fl
 }  // namespace
 
 LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Point& centre,
-                   const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o) {
+                   const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o,
+                   const Eigen::Matrix2d* start_shape) {
   LsmResult result;
   if (!o.Check(&result.why)) return result;
   const int h = o.half_window_px, side = 2 * h + 1, n = side * side;
@@ -137,6 +138,7 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
   }
 
   Eigen::Matrix3d warp = Eigen::Matrix3d::Identity();  // search = warp * [x y 1]
+  if (start_shape) warp.topLeftCorner<2, 2>() = *start_shape;
   warp(0, 2) = start.x();
   warp(1, 2) = start.y();
   for (result.iterations = 1; result.iterations <= o.max_iterations; ++result.iterations) {

@@ -50,9 +50,11 @@ struct ImageGradients {
 ImageGradients ComputeGradients(const cv::Mat& image);
 
 // centre: the template window's centre pixel in `templ`, whose gradients are given;
-// start: approximate position in `search` (within ~1-2 px of the truth).
+// start: approximate position in `search` (within ~1-2 px of the truth); start_shape: the
+// warp's linear part to start from (a1 a2; b1 b2), e.g. a neighbour's fit: on a slanted
+// surface it saves the iterations that would find the shear (identity when null).
 LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& template_gradients,
                    const cv::Point& centre, const cv::Mat& search, const Eigen::Vector2d& start,
-                   const LsmOptions& options = {});
+                   const LsmOptions& options = {}, const Eigen::Matrix2d* start_shape = nullptr);
 
 }  // namespace ts

@@ -154,6 +154,10 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   std::vector<StereoMatch> matches;
   matches.reserve(points.size() / 2);
   SpacingFilter spacing(o.min_spacing_m, r.baseline_m, r.focal_px);
+  bool have_last = false;
+  cv::Point last;
+  int last_d = 0;
+  Eigen::Matrix2d last_shape;
   for (const cv::Point& p : points) {
     int approx = 0;  // the pyramid's disparity, for the spacing
     if (o.min_spacing_m > 0.0) {
@@ -172,9 +176,15 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     const int back =
         RefineFromMap(right_map, right, left, p.x - d, p.y, d_min, d_max, h, -1, &back_ncc);
     if (back < 0 || back_ncc < o.min_ncc || std::abs(back - d) > o.max_consistency_px) continue;
-    const LsmResult lsm =
-        MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y), o.lsm);
+    // The last fit's shape where it is a neighbour on the same surface (points come in image
+    // order): on slanted ground it saves the iterations that would find the shear.
+    const bool neighbour = have_last && p.y - last.y <= h &&
+                           p.x - last.x <= 4 * o.lsm.half_window_px && std::abs(d - last_d) <= 2;
+    const LsmResult lsm = MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y),
+                                   o.lsm, neighbour ? &last_shape : nullptr);
     if (!lsm.ok) continue;
+    have_last = true, last = p, last_d = d;
+    last_shape << lsm.parameters[1], lsm.parameters[2], lsm.parameters[4], lsm.parameters[5];
     ++s.lsm_accepted;
     const double disparity = p.x - lsm.position_px.x();
     if (std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;

@@ -91,6 +91,27 @@ TEST_F(Lsm, RecoversAffineAndRadiometricParameters) {
   EXPECT_NEAR(r.parameters[6], 12.0, 4.0);
 }
 
+// Starting from a neighbour's shape (here the true one, as on a uniformly slanted surface) the
+// fit lands on the same answer in fewer iterations than from the identity.
+TEST_F(Lsm, AStartShapeSavesIterationsAndKeepsTheAnswer) {
+  const auto truth = Params(52.3, 0.97, -0.3, 44.7, 0.0, 1.0, 5.0, 0.9);
+  const cv::Mat templ = Template(texture_, truth, 31, 15, 15);
+  LsmOptions o;
+  o.half_window_px = 10;
+  const LsmResult from_identity =
+      MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {53.0, 45.0}, o);
+  Eigen::Matrix2d shape;
+  shape << truth[1], truth[2], truth[4], truth[5];
+  const LsmResult from_shape =
+      MatchLsm(templ, ComputeGradients(templ), {15, 15}, search_, {53.0, 45.0}, o, &shape);
+  ASSERT_TRUE(from_identity.ok) << from_identity.why;
+  ASSERT_TRUE(from_shape.ok) << from_shape.why;
+  EXPECT_NEAR(from_shape.position_px.x(), 52.3, 0.02);
+  EXPECT_NEAR(from_shape.position_px.y(), 44.7, 0.02);
+  EXPECT_NEAR(from_shape.position_px.x(), from_identity.position_px.x(), 0.005);
+  EXPECT_LT(from_shape.iterations, from_identity.iterations);
+}
+
 // The reported sigma must describe the scatter of the matched position under image noise.
 TEST_F(Lsm, SigmaDescribesTheScatterUnderNoise) {
   const auto truth = Params(48.6, 1, 0, 51.2, 0, 1, 0, 1);
