@@ -42,11 +42,10 @@ ImageGradients ComputeGradients(const cv::Mat& image) {
 
 namespace {
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-
 // Resamples the search window under the affine warp (search = A [x y 1]^T); false if any
-// sample falls outside the image.
+// sample falls outside the image. Along rows only (A's second row is [0 1 y]): every sample of
+// a row lies on one image row, so the interpolation is linear, not bilinear.
+template <bool kAlongRows>
 bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, float* out) {
   // Corners first: the affine image of the window is inside if its corners are.
   for (const int cy : {-h, h})
@@ -61,40 +60,51 @@ bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, fl
   int k = 0;
   for (int y = -h; y <= h; ++y) {
     float xs = static_cast<float>(a(0, 0) * -h + a(0, 1) * y + a(0, 2));
-    float ys = static_cast<float>(a(1, 0) * -h + a(1, 1) * y + a(1, 2));
-    for (int x = -h; x <= h; ++x, ++k, xs += dxx, ys += dyx) {
-      const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);  // both >= 0
-      const float tx = xs - x0, ty = ys - y0;
-      const float* r0 = data + y0 * step + x0;
-      const float* r1 = r0 + step;
-      out[k] = r0[0] + tx * (r0[1] - r0[0]) +
-               ty * (r1[0] - r0[0] + tx * (r1[1] - r1[0] - r0[1] + r0[0]));
+    if constexpr (kAlongRows) {
+      const float* row = data + static_cast<size_t>(std::lround(a(1, 2))) * step + y * step;
+      for (int x = -h; x <= h; ++x, ++k, xs += dxx) {
+        const int x0 = static_cast<int>(xs);  // >= 0
+        const float t = xs - x0;
+        out[k] = row[x0] + t * (row[x0 + 1] - row[x0]);
+      }
+    } else {
+      float ys = static_cast<float>(a(1, 0) * -h + a(1, 1) * y + a(1, 2));
+      for (int x = -h; x <= h; ++x, ++k, xs += dxx, ys += dyx) {
+        const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);  // both >= 0
+        const float tx = xs - x0, ty = ys - y0;
+        const float* r0 = data + y0 * step + x0;
+        const float* r1 = r0 + step;
+        out[k] = r0[0] + tx * (r0[1] - r0[0]) +
+                 ty * (r1[0] - r0[0] + tx * (r1[1] - r1[0] - r0[1] + r0[0]));
+      }
     }
   }
   return true;
 }
 
-}  // namespace
-
-LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Point& centre,
-                   const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o,
-                   const Eigen::Matrix2d* start_shape) {
+// K geometric parameters: 6 (a0 a1 a2 b0 b1 b2) or 3 (a0 a1 a2: along rows only).
+template <int K>
+LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point& centre,
+                const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o,
+                const Eigen::Matrix2d* start_shape) {
+  using MatrixK = Eigen::Matrix<double, K, K>;
+  using VectorK = Eigen::Matrix<double, K, 1>;
+  constexpr bool kAlongRows = K == 3;
   LsmResult result;
-  if (!o.Check(&result.why)) return result;
   const int h = o.half_window_px, side = 2 * h + 1, n = side * side;
   if (centre.x - h < 1 || centre.y - h < 1 || centre.x + h + 1 >= templ.cols ||
       centre.y + h + 1 >= templ.rows) {
     result.why = "template window leaves the image";
     return result;
   }
-  // Per-thread scratch: the centred template, the six steepest-descent images
-  // d f / d(a0 a1 a2 b0 b1 b2) at the identity warp, and the resampled search window.
+  // Per-thread scratch: the centred template, the steepest-descent images d f / d(a0 a1 a2
+  // [b0 b1 b2]) at the identity warp, and the resampled search window.
   thread_local std::vector<float> buffer;
-  buffer.resize(8 * static_cast<size_t>(n));
+  buffer.resize((K + 2) * static_cast<size_t>(n));
   float* f = buffer.data();
   float* g = f + n;
-  float* sd[6];
-  for (int j = 0; j < 6; ++j) sd[j] = g + (j + 1) * n;
+  float* sd[K];
+  for (int j = 0; j < K; ++j) sd[j] = g + (j + 1) * n;
   double mean_f = 0.0;
   for (int y = -h, k = 0; y <= h; ++y) {
     const float* fr = templ.ptr<float>(centre.y + y) + centre.x;
@@ -104,7 +114,7 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
       f[k] = fr[x];
       mean_f += fr[x];
       sd[0][k] = gx[x], sd[1][k] = gx[x] * x, sd[2][k] = gx[x] * y;
-      sd[3][k] = gy[x], sd[4][k] = gy[x] * x, sd[5][k] = gy[x] * y;
+      if constexpr (!kAlongRows) sd[3][k] = gy[x], sd[4][k] = gy[x] * x, sd[5][k] = gy[x] * y;
     }
   }
   mean_f /= n;
@@ -121,16 +131,16 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
   // (Eigen maps: vectorised sums with independent accumulators.)
   using MapVector = Eigen::Map<Eigen::VectorXf>;
   const MapVector fv(f, n), gv(g, n);
-  Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, 6>> jacobian(sd[0], n, 6);
-  for (int j = 0; j < 6; ++j) {
+  Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, K>> jacobian(sd[0], n, K);
+  for (int j = 0; j < K; ++j) {
     auto column = jacobian.col(j);
     const float mean = column.mean(), along = static_cast<float>(column.dot(fv) / var_f);
     column.array() -= mean + along * fv.array();
   }
-  Eigen::Matrix<float, 6, 6> normal_f;  // 21 vectorised dot products, no GEMM blocking
+  Eigen::Matrix<float, K, K> normal_f;  // vectorised dot products, no GEMM blocking
   normal_f.noalias() = jacobian.transpose().lazyProduct(jacobian);
-  const Matrix6d normal = normal_f.cast<double>();
-  const Eigen::LDLT<Matrix6d> ldlt(normal);
+  const MatrixK normal = normal_f.template cast<double>();
+  const Eigen::LDLT<MatrixK> ldlt(normal);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
       !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff())) {
     result.why = "no texture: normal equations singular";
@@ -139,15 +149,17 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
 
   Eigen::Matrix3d warp = Eigen::Matrix3d::Identity();  // search = warp * [x y 1]
   if (start_shape) warp.topLeftCorner<2, 2>() = *start_shape;
+  if constexpr (kAlongRows) warp.block<1, 2>(1, 0) << 0.0, 1.0;
   warp(0, 2) = start.x();
-  warp(1, 2) = start.y();
+  warp(1, 2) = kAlongRows ? std::round(start.y()) : start.y();
+  const Eigen::RowVector3d before_row = warp.row(1);
   for (result.iterations = 1; result.iterations <= o.max_iterations; ++result.iterations) {
-    if (!Warp(search, warp.topRows<2>(), h, g)) {
+    if (!Warp<kAlongRows>(search, warp.topRows<2>(), h, g)) {
       result.why = "search window leaves the image";
       return result;
     }
     const double sg = gv.sum(), sgg = gv.squaredNorm(), sfg = fv.dot(gv);
-    const Eigen::Matrix<float, 6, 1> dots = jacobian.transpose() * gv;
+    const Eigen::Matrix<float, K, 1> dots = jacobian.transpose() * gv;
     const double var_g = sgg - sg * sg / n;  // n times the variance
     if (!(var_g > 1e-6 * n)) {
       result.why = "no texture: search window is flat";
@@ -155,17 +167,19 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
     }
     // Radiometry in closed form, f ~ r0 + r1 g; the residual's product with the Jacobian.
     const double r1 = sfg / var_g, r0 = mean_f - r1 * sg / n;
-    Vector6d rhs;
-    for (int j = 0; j < 6; ++j) rhs[j] = r1 * dots[j];
-    const Vector6d dp = ldlt.solve(rhs);
+    VectorK rhs;
+    for (int j = 0; j < K; ++j) rhs[j] = r1 * dots[j];
+    const VectorK dp = ldlt.solve(rhs);
     if (!dp.allFinite()) {
       result.why = "no texture: normal equations singular";
       return result;
     }
-    Eigen::Matrix3d inc;
-    inc << 1 + dp[1], dp[2], dp[0], dp[4], 1 + dp[5], dp[3], 0, 0, 1;
+    Eigen::Matrix3d inc = Eigen::Matrix3d::Identity();
+    inc.row(0) << 1 + dp[1], dp[2], dp[0];
+    if constexpr (!kAlongRows) inc.row(1) << dp[4], 1 + dp[5], dp[3];
     const Eigen::Vector2d before = warp.block<2, 1>(0, 2);
     warp = warp * inc.inverse();
+    if constexpr (kAlongRows) warp.row(1) = before_row;  // exactly, not as an inverse gives it
     const Eigen::Vector2d position = warp.block<2, 1>(0, 2);
     if ((position - start).norm() > o.max_shift_px) {
       result.why = "moved more than max_shift_px from the start";
@@ -175,10 +189,12 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
     // Converged. Residual sum of squares of the fitted windows, from the sums; the increment
     // was in template coordinates, the position moves by the warp's linear part times it.
     const double sum_v2 = std::max(0.0, var_f - r1 * sfg);
-    const double sigma0_sq = sum_v2 / (n - 8);
-    const Matrix6d inverse = ldlt.solve(Matrix6d::Identity());
-    Eigen::Matrix2d template_cov;
-    template_cov << inverse(0, 0), inverse(0, 3), inverse(3, 0), inverse(3, 3);
+    const double sigma0_sq = sum_v2 / (n - K - 2);
+    const MatrixK inverse = ldlt.solve(MatrixK::Identity());
+    Eigen::Matrix2d template_cov = Eigen::Matrix2d::Zero();
+    template_cov(0, 0) = inverse(0, 0);
+    if constexpr (!kAlongRows)
+      template_cov << inverse(0, 0), inverse(0, 3), inverse(3, 0), inverse(3, 3);
     const Eigen::Matrix2d linear = warp.topLeftCorner<2, 2>();
     const Eigen::Matrix2d cov = sigma0_sq * linear * template_cov * linear.transpose();
     result.position_px = position;
@@ -199,6 +215,17 @@ LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Poi
   }
   result.why = "did not converge";
   return result;
+}
+
+}  // namespace
+
+LsmResult MatchLsm(const cv::Mat& templ, const ImageGradients& tg, const cv::Point& centre,
+                   const cv::Mat& search, const Eigen::Vector2d& start, const LsmOptions& o,
+                   const Eigen::Matrix2d* start_shape) {
+  LsmResult result;
+  if (!o.Check(&result.why)) return result;
+  return o.along_rows_only ? Solve<3>(templ, tg, centre, search, start, o, start_shape)
+                           : Solve<6>(templ, tg, centre, search, start, o, start_shape);
 }
 
 }  // namespace ts

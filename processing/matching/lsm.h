@@ -29,6 +29,10 @@ struct LsmOptions {
   double max_shift_px = 3.0;     // reject if the match moves farther from the start
   double min_correlation = 0.7;  // reject weaker matches
   double max_sigma_px = 0.5;     // reject less precise matches
+  // Rectified stereo: the match lies on the template's row (y = start's row, rounded), and
+  // only x = a0 + a1 x + a2 y is fitted (Baltsavias' geometric constraint): three geometric
+  // parameters instead of six, linear instead of bilinear resampling.
+  bool along_rows_only = false;
   bool Check(std::string* why) const;
 };
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -29,6 +31,8 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "sigma_scale must be positive";
   } else if (!(min_spacing_m >= 0.0)) {
     err = "min_spacing_m must not be negative";
+  } else if (!(half_resolution_within_m >= 0.0)) {
+    err = "half_resolution_within_m must not be negative";
   }
   if (err.empty()) return true;
   if (why) *why = err;
@@ -129,9 +133,23 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   const cv::Mat lsm_right = Enhance(right_rect, smooth_only);
   const cv::Mat left = Enhance(lsm_left, wallis_only), right = Enhance(lsm_right, wallis_only);
   const ImageGradients gradients = ComputeGradients(lsm_left);
+  // Half resolution for the near points: pixel i of a pyrDown level is centred on pixel 2i.
+  const bool explicit_range = o.max_disparity_px >= 0;
+  // (Without a known geometry, as for an explicit disparity range, there is no depth.)
+  const bool near_half = o.half_resolution_within_m > 0.0 && !explicit_range;
+  cv::Mat half_left, half_right;
+  ImageGradients half_gradients;
+  if (near_half) {
+    cv::pyrDown(lsm_left, half_left);
+    cv::pyrDown(lsm_right, half_right);
+    half_gradients = ComputeGradients(half_left);
+  }
+  LsmOptions half_lsm = o.lsm;  // thresholds in full-resolution pixels
+  half_lsm.max_sigma_px /= 2, half_lsm.max_shift_px /= 2, half_lsm.convergence_px /= 2;
+  const double near_disparity = near_half ? r.focal_px * r.baseline_m / o.half_resolution_within_m
+                                          : std::numeric_limits<double>::infinity();
   s.enhance_s = SecondsSince(&clock);
 
-  const bool explicit_range = o.max_disparity_px >= 0;
   const int d_min = explicit_range ? o.min_disparity_px : r.MinDisparityPx(o.max_depth_m);
   const int d_max = explicit_range ? o.max_disparity_px : r.MaxDisparityPx(o.min_depth_m);
   // Approximations for both images: the right one as the mirror image of the problem.
@@ -158,13 +176,17 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   cv::Point last;
   int last_d = 0;
   Eigen::Matrix2d last_shape;
-  for (const cv::Point& p : points) {
-    int approx = 0;  // the pyramid's disparity, for the spacing
-    if (o.min_spacing_m > 0.0) {
-      const int mu = p.x >> left_map.level, mv = p.y >> left_map.level;
-      if (mu >= left_map.disparity.cols || mv >= left_map.disparity.rows) continue;
-      approx = left_map.disparity.at<int16_t>(mv, mu) << left_map.level;
-      if (approx < 0 || !spacing.Free(p.x, p.y, approx)) continue;
+  std::unordered_set<int64_t> half_taken;  // near points snapped to one even pixel: once
+  for (cv::Point p : points) {
+    const int mu = p.x >> left_map.level, mv = p.y >> left_map.level;
+    const bool mapped = mu < left_map.disparity.cols && mv < left_map.disparity.rows;
+    // The pyramid's disparity: for the spacing and for near or far.
+    const int approx = mapped ? left_map.disparity.at<int16_t>(mv, mu) << left_map.level : -1;
+    if (o.min_spacing_m > 0.0 && (approx < 0 || !spacing.Free(p.x, p.y, approx))) continue;
+    const bool half = approx >= near_disparity;
+    if (half) {
+      p = cv::Point(2 * ((p.x + 1) / 2), 2 * ((p.y + 1) / 2));
+      if (!half_taken.insert((static_cast<int64_t>(p.y) << 32) | p.x).second) continue;
     }
     double ncc = 0.0;
     const int d = RefineFromMap(left_map, left, right, p.x, p.y, d_min, d_max, h, +1, &ncc);
@@ -180,8 +202,16 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     // order): on slanted ground it saves the iterations that would find the shear.
     const bool neighbour = have_last && p.y - last.y <= h &&
                            p.x - last.x <= 4 * o.lsm.half_window_px && std::abs(d - last_d) <= 2;
-    const LsmResult lsm = MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y),
-                                   o.lsm, neighbour ? &last_shape : nullptr);
+    const Eigen::Matrix2d* shape = neighbour ? &last_shape : nullptr;
+    LsmResult lsm;
+    if (half) {
+      lsm = MatchLsm(half_left, half_gradients, p / 2, half_right,
+                     Eigen::Vector2d(p.x - d, p.y) / 2, half_lsm, shape);
+      lsm.position_px *= 2, lsm.sigma_x_px *= 2, lsm.sigma_y_px *= 2;
+    } else {
+      lsm =
+          MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y), o.lsm, shape);
+    }
     if (!lsm.ok) continue;
     have_last = true, last = p, last_d = d;
     last_shape << lsm.parameters[1], lsm.parameters[2], lsm.parameters[4], lsm.parameters[5];

@@ -133,6 +133,47 @@ TEST_F(Lsm, SigmaDescribesTheScatterUnderNoise) {
   EXPECT_LT(ratio, 1.4);
 }
 
+// Along rows only (rectified stereo): the x-affine is recovered on the template's row, with the
+// precision the sigma claims, and it is more precise than the six-parameter fit on the same
+// noisy windows (fewer unknowns).
+TEST_F(Lsm, AlongRowsRecoversTheRowAffineWithAnHonestSigma) {
+  const auto truth = Params(50.37, 0.96, -0.28, 47, 0, 1, 8.0, 0.9);
+  const cv::Mat clean = Template(texture_, truth, 31, 15, 15);
+  LsmOptions rows;
+  rows.half_window_px = 10;
+  rows.along_rows_only = true;
+  const LsmResult exact =
+      MatchLsm(clean, ComputeGradients(clean), {15, 15}, search_, {51, 47}, rows);
+  ASSERT_TRUE(exact.ok) << exact.why;
+  EXPECT_NEAR(exact.position_px.x(), 50.37, 0.02);
+  EXPECT_EQ(exact.position_px.y(), 47.0);
+  EXPECT_NEAR(exact.parameters[1], 0.96, 0.01);
+  EXPECT_NEAR(exact.parameters[2], -0.28, 0.01);
+  EXPECT_EQ(exact.sigma_y_px, 0.0);
+
+  LsmOptions full = rows;
+  full.along_rows_only = false;
+  std::mt19937 rng(8);
+  std::normal_distribution<float> noise(0.0f, 3.0f);
+  double err2_rows = 0.0, sigma2_rows = 0.0, err2_full = 0.0;
+  const int trials = 200;
+  for (int i = 0; i < trials; ++i) {
+    cv::Mat templ = clean.clone();
+    for (auto it = templ.begin<float>(); it != templ.end<float>(); ++it) *it += noise(rng);
+    const ImageGradients g = ComputeGradients(templ);
+    const LsmResult a = MatchLsm(templ, g, {15, 15}, search_, {51, 47}, rows);
+    const LsmResult b = MatchLsm(templ, g, {15, 15}, search_, {51, 47}, full);
+    ASSERT_TRUE(a.ok && b.ok) << a.why << " / " << b.why;
+    err2_rows += std::pow(a.position_px.x() - 50.37, 2);
+    sigma2_rows += a.sigma_x_px * a.sigma_x_px;
+    err2_full += std::pow(b.position_px.x() - 50.37, 2);
+  }
+  const double ratio = std::sqrt(err2_rows / sigma2_rows);
+  EXPECT_GT(ratio, 0.7);
+  EXPECT_LT(ratio, 1.4);
+  EXPECT_LT(err2_rows, err2_full);
+}
+
 TEST_F(Lsm, RejectsWhatCannotBeMatched) {
   const cv::Mat flat(60, 60, CV_32FC1, cv::Scalar(100));
   const LsmResult none = MatchLsm(flat, ComputeGradients(flat), {30, 30}, flat, {30, 30});
