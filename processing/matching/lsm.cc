@@ -11,6 +11,8 @@ bool LsmOptions::Check(std::string* why) const {
   std::string err;
   if (half_window_px < 2 || half_window_px > 50)
     err = "half_window_px must be in [2, 50]";
+  else if (half_height_px < 0 || half_height_px > 50 || half_height_px == 1)
+    err = "half_height_px must be 0 (square) or in [2, 50]";
   else if (max_iterations < 1)
     err = "max_iterations must be at least 1";
   else if (!(convergence_px > 0.0) || !(max_shift_px > 0.0) || !(max_sigma_px > 0.0))
@@ -46,10 +48,10 @@ namespace {
 // sample falls outside the image. Along rows only (A's second row is [0 1 y]): every sample of
 // a row lies on one image row, so the interpolation is linear, not bilinear.
 template <bool kAlongRows>
-bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, float* out) {
+bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int hx, int hy, float* out) {
   // Corners first: the affine image of the window is inside if its corners are.
-  for (const int cy : {-h, h})
-    for (const int cx : {-h, h}) {
+  for (const int cy : {-hy, hy})
+    for (const int cx : {-hx, hx}) {
       const double xs = a(0, 0) * cx + a(0, 1) * cy + a(0, 2);
       const double ys = a(1, 0) * cx + a(1, 1) * cy + a(1, 2);
       if (!(xs >= 0.0 && ys >= 0.0 && xs < search.cols - 1 && ys < search.rows - 1)) return false;
@@ -58,18 +60,18 @@ bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int h, fl
   const float* data = search.ptr<float>();
   const float dxx = static_cast<float>(a(0, 0)), dyx = static_cast<float>(a(1, 0));
   int k = 0;
-  for (int y = -h; y <= h; ++y) {
-    float xs = static_cast<float>(a(0, 0) * -h + a(0, 1) * y + a(0, 2));
+  for (int y = -hy; y <= hy; ++y) {
+    float xs = static_cast<float>(a(0, 0) * -hx + a(0, 1) * y + a(0, 2));
     if constexpr (kAlongRows) {
       const float* row = data + static_cast<size_t>(std::lround(a(1, 2))) * step + y * step;
-      for (int x = -h; x <= h; ++x, ++k, xs += dxx) {
+      for (int x = -hx; x <= hx; ++x, ++k, xs += dxx) {
         const int x0 = static_cast<int>(xs);  // >= 0
         const float t = xs - x0;
         out[k] = row[x0] + t * (row[x0 + 1] - row[x0]);
       }
     } else {
-      float ys = static_cast<float>(a(1, 0) * -h + a(1, 1) * y + a(1, 2));
-      for (int x = -h; x <= h; ++x, ++k, xs += dxx, ys += dyx) {
+      float ys = static_cast<float>(a(1, 0) * -hx + a(1, 1) * y + a(1, 2));
+      for (int x = -hx; x <= hx; ++x, ++k, xs += dxx, ys += dyx) {
         const int x0 = static_cast<int>(xs), y0 = static_cast<int>(ys);  // both >= 0
         const float tx = xs - x0, ty = ys - y0;
         const float* r0 = data + y0 * step + x0;
@@ -91,9 +93,10 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   using VectorK = Eigen::Matrix<double, K, 1>;
   constexpr bool kAlongRows = K == 3;
   LsmResult result;
-  const int h = o.half_window_px, side = 2 * h + 1, n = side * side;
-  if (centre.x - h < 1 || centre.y - h < 1 || centre.x + h + 1 >= templ.cols ||
-      centre.y + h + 1 >= templ.rows) {
+  const int hx = o.half_window_px, hy = o.half_height_px > 0 ? o.half_height_px : hx;
+  const int n = (2 * hx + 1) * (2 * hy + 1);
+  if (centre.x - hx < 1 || centre.y - hy < 1 || centre.x + hx + 1 >= templ.cols ||
+      centre.y + hy + 1 >= templ.rows) {
     result.why = "template window leaves the image";
     return result;
   }
@@ -106,11 +109,11 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   float* sd[K];
   for (int j = 0; j < K; ++j) sd[j] = g + (j + 1) * n;
   double mean_f = 0.0;
-  for (int y = -h, k = 0; y <= h; ++y) {
+  for (int y = -hy, k = 0; y <= hy; ++y) {
     const float* fr = templ.ptr<float>(centre.y + y) + centre.x;
     const float* gx = tg.dx.ptr<float>(centre.y + y) + centre.x;
     const float* gy = tg.dy.ptr<float>(centre.y + y) + centre.x;
-    for (int x = -h; x <= h; ++x, ++k) {
+    for (int x = -hx; x <= hx; ++x, ++k) {
       f[k] = fr[x];
       mean_f += fr[x];
       sd[0][k] = gx[x], sd[1][k] = gx[x] * x, sd[2][k] = gx[x] * y;
@@ -154,7 +157,7 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   warp(1, 2) = kAlongRows ? std::round(start.y()) : start.y();
   const Eigen::RowVector3d before_row = warp.row(1);
   for (result.iterations = 1; result.iterations <= o.max_iterations; ++result.iterations) {
-    if (!Warp<kAlongRows>(search, warp.topRows<2>(), h, g)) {
+    if (!Warp<kAlongRows>(search, warp.topRows<2>(), hx, hy, g)) {
       result.why = "search window leaves the image";
       return result;
     }

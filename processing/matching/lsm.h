@@ -24,6 +24,7 @@ namespace ts {
 
 struct LsmOptions {
   int half_window_px = 7;  // template is (2h+1)^2 pixels
+  int half_height_px = 0;  // > 0: the template is 2 half_window_px + 1 wide and 2 this + 1 high
   int max_iterations = 20;
   double convergence_px = 1e-3;  // stop when the shift update is smaller
   double max_shift_px = 3.0;     // reject if the match moves farther from the start

@@ -31,8 +31,10 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "sigma_scale must be positive";
   } else if (!(min_spacing_m >= 0.0)) {
     err = "min_spacing_m must not be negative";
-  } else if (!(half_resolution_within_m >= 0.0)) {
-    err = "half_resolution_within_m must not be negative";
+  } else if (!(half_resolution_within_m >= 0.0) || !(far_window_from_m >= 0.0)) {
+    err = "half_resolution_within_m and far_window_from_m must not be negative";
+  } else if (!far_lsm.Check(&err)) {
+    err = "far_lsm: " + err;
   }
   if (err.empty()) return true;
   if (why) *why = err;
@@ -148,6 +150,9 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   half_lsm.max_sigma_px /= 2, half_lsm.max_shift_px /= 2, half_lsm.convergence_px /= 2;
   const double near_disparity = near_half ? r.focal_px * r.baseline_m / o.half_resolution_within_m
                                           : std::numeric_limits<double>::infinity();
+  const double far_disparity = o.far_window_from_m > 0.0 && !explicit_range
+                                   ? r.focal_px * r.baseline_m / o.far_window_from_m
+                                   : -1.0;
   s.enhance_s = SecondsSince(&clock);
 
   const int d_min = explicit_range ? o.min_disparity_px : r.MinDisparityPx(o.max_depth_m);
@@ -209,8 +214,8 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
                      Eigen::Vector2d(p.x - d, p.y) / 2, half_lsm, shape);
       lsm.position_px *= 2, lsm.sigma_x_px *= 2, lsm.sigma_y_px *= 2;
     } else {
-      lsm =
-          MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y), o.lsm, shape);
+      lsm = MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y),
+                     d < far_disparity ? o.far_lsm : o.lsm, shape);
     }
     if (!lsm.ok) continue;
     have_last = true, last = p, last_d = d;

@@ -70,6 +70,25 @@ struct PairMatchOptions {
   // full resolution, 0.037 / 0.049 with 7 m; hills 0.062 / 0.062 and 0.056 / 0.063; with 10 m
   // hills 5-10 m gets worse (0.071: the window's ground is curved over a metre of depth).
   double half_resolution_within_m = 7.0;
+  // Points farther than this are least-squares matched with far_lsm's wide, low windows: a
+  // square window of far ground spans metres of it in depth (at 30 m each image row is ~40 cm
+  // of ground seen from 1.5 m), where the ground is not the plane an affine fit assumes; the
+  // rows a low window leaves out are those metres. 0: never. Measured on a hills pair (21 x 21
+  // everywhere / 29 x 9 beyond 12 m): median |error| 10-20 m 0.072 / 0.070 px, 20-40 m
+  // 0.118 / 0.070 px, beyond 40 m 0.117 / 0.045 px; share off by > 1 px 0.24 / 0.08 %; RMS
+  // error / sigma 20-40 m 3.8 / 1.7. Over the 12 pairs (bench_matching) from 12 m the median
+  // rose (0.050 -> 0.053 px: 10-20 m is better square); from 20 m: median 0.050, p95 0.24 ->
+  // 0.22 px, share off by > 1 px 0.23 -> 0.08 %.
+  double far_window_from_m = 20.0;
+  LsmOptions far_lsm = [] {
+    LsmOptions o;
+    o.half_window_px = 14;
+    o.half_height_px = 4;
+    o.max_sigma_px = 0.06;
+    o.convergence_px = 0.01;
+    o.along_rows_only = true;
+    return o;
+  }();
   int max_consistency_px = 1;  // the right image's integer disparity may differ this much
   // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
   // resampling correlate neighbouring pixels, so the reported sigma is this times it

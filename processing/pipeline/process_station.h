@@ -45,6 +45,7 @@ struct ProcessOptions {
     m.min_spacing_m = 0.2;
     m.lsm.half_window_px = 8;
     m.lsm.max_sigma_px = 0.075;  // smaller windows, larger sigmas
+    m.far_lsm.max_sigma_px = 0.075;
     return m;
   }();
   HeightBlunderOptions blunders;

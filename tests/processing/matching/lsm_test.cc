@@ -174,6 +174,31 @@ TEST_F(Lsm, AlongRowsRecoversTheRowAffineWithAnHonestSigma) {
   EXPECT_LT(err2_rows, err2_full);
 }
 
+// A wide, low window (29 x 9, as for far ground) finds the same sub-pixel shift and x-affine.
+TEST_F(Lsm, AWideLowWindowRecoversTheRowAffine) {
+  const auto truth = Params(50.62, 1.03, 0.12, 47, 0, 1, 3.0, 1.1);
+  const cv::Mat templ = Template(texture_, truth, 41, 20, 20);
+  LsmOptions o;
+  o.half_window_px = 14;
+  o.half_height_px = 4;
+  o.along_rows_only = true;
+  const LsmResult r = MatchLsm(templ, ComputeGradients(templ), {20, 20}, search_, {50, 47}, o);
+  ASSERT_TRUE(r.ok) << r.why;
+  EXPECT_NEAR(r.position_px.x(), 50.62, 0.02);
+  EXPECT_NEAR(r.parameters[1], 1.03, 0.01);
+  EXPECT_NEAR(r.parameters[2], 0.12, 0.02);
+  // The template must fit: 14 px beside the centre, 4 above it.
+  const ImageGradients g = ComputeGradients(templ);
+  EXPECT_EQ(MatchLsm(templ, g, {13, 20}, search_, {50, 47}, o).why,
+            "template window leaves the image");
+  EXPECT_NE(MatchLsm(templ, g, {20, 5}, search_, {50, 32}, o).why,
+            "template window leaves the image");
+  o.half_height_px = 1;
+  std::string why;
+  EXPECT_FALSE(o.Check(&why));
+  EXPECT_NE(why.find("half_height_px"), std::string::npos);
+}
+
 TEST_F(Lsm, RejectsWhatCannotBeMatched) {
   const cv::Mat flat(60, 60, CV_32FC1, cv::Scalar(100));
   const LsmResult none = MatchLsm(flat, ComputeGradients(flat), {30, 30}, flat, {30, 30});
