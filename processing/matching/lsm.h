@@ -3,7 +3,8 @@
 // the left image is matched into the right image under an affine geometric and a linear
 // radiometric transformation,
 //   f(x, y) + e(x, y) = r0 + r1 g(a0 + a1 x + a2 y,  b0 + b1 x + b2 y)
-// with (x, y) relative to the template centre. The result is the sub-pixel position (a0, b0)
+// with (x, y) relative to the template centre (or, for rectified stereo, along the rows only:
+// b0 b1 b2 fixed at the template's row). The result is the sub-pixel position (a0, b0)
 // in the search image with its standard deviation from the a-posteriori variance of the fit,
 // and the correlation of the fitted windows.
 //

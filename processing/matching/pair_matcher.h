@@ -4,9 +4,9 @@
 //   in dense mode, every dense_step_px-th pixel -> approximate disparities from NCC on a
 //   pyramid, for the left and for the right image, within a depth range -> at full
 //   resolution NCC around the approximation -> the right image's own search must lead back
-//   (two-way consistency) -> least-squares matching (on the Gaussian-only images: see
-//   pair_matcher.cc) for the sub-pixel disparity and its sigma, which must agree with the way
-//   back too.
+//   (two-way consistency) -> least-squares matching along the rows (on the Gaussian-only
+//   images: see pair_matcher.cc; near points at half resolution, far ones with wide, low
+//   windows) for the sub-pixel disparity and its sigma, which must agree with the way back too.
 // Coordinates are rectified pixels (rectification.h); depth = f B / disparity.
 #include <Eigen/Core>
 #include <string>
