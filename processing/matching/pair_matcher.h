@@ -20,6 +20,19 @@
 
 namespace ts {
 
+// Least-squares matching of rectified pairs: along the rows, converged at 0.01 px, sigma at
+// most 0.048 px (see PairMatchOptions::lsm); a window 2 half_width + 1 wide and 2 half_height + 1
+// high (0: square).
+inline LsmOptions StereoLsm(int half_width_px, int half_height_px = 0) {
+  LsmOptions o;
+  o.half_window_px = half_width_px;
+  o.half_height_px = half_height_px;
+  o.max_sigma_px = 0.048;
+  o.convergence_px = 0.01;
+  o.along_rows_only = true;
+  return o;
+}
+
 struct PairMatchOptions {
   EnhanceOptions enhance;
   // Dense Förstner: the strongest pixel of every 4 x 4 cell that has texture at all;
@@ -56,14 +69,7 @@ struct PairMatchOptions {
   // 0.045 px give median 0.0502 / 0.0498 / 0.0490 px at 30.6 / 30.3 / 29.6 k ground points
   // within 50 m a pair. The error is noise-limited: larger windows help near the tripod and
   // hurt far out (a window of far ground spans metres of it in depth).
-  LsmOptions lsm = [] {
-    LsmOptions o;
-    o.half_window_px = 10;
-    o.max_sigma_px = 0.048;
-    o.convergence_px = 0.01;
-    o.along_rows_only = true;
-    return o;
-  }();
+  LsmOptions lsm = StereoLsm(10);
   // Points nearer than this (by the pyramid's approximation) are least-squares matched on the
   // half-resolution images: there a pixel is a few millimetres of ground, the texture is smooth
   // at full resolution, and a window of the same size at half resolution sees four times the
@@ -82,15 +88,7 @@ struct PairMatchOptions {
   // rose (0.050 -> 0.053 px: 10-20 m is better square); from 20 m: median 0.050, p95 0.24 ->
   // 0.22 px, share off by > 1 px 0.23 -> 0.08 %.
   double far_window_from_m = 20.0;
-  LsmOptions far_lsm = [] {
-    LsmOptions o;
-    o.half_window_px = 14;
-    o.half_height_px = 4;
-    o.max_sigma_px = 0.048;
-    o.convergence_px = 0.01;
-    o.along_rows_only = true;
-    return o;
-  }();
+  LsmOptions far_lsm = StereoLsm(14, 4);
   // The right image's integer disparity may differ this much. Measured on a hills pair, 1 / 2
   // px: 33.2 / 35.2 k matches, median |error| 0.063 / 0.063 px, share off by > 1 px 0.12 /
   // 0.14 % (the sigma limit and the sub-pixel check below catch what 2 px lets through).
