@@ -59,11 +59,12 @@ bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int hx, i
   const size_t step = search.step1();
   const float* data = search.ptr<float>();
   const float dxx = static_cast<float>(a(0, 0)), dyx = static_cast<float>(a(1, 0));
+  const float* centre_row = data + static_cast<ptrdiff_t>(std::lround(a(1, 2))) * step;
   int k = 0;
   for (int y = -hy; y <= hy; ++y) {
     float xs = static_cast<float>(a(0, 0) * -hx + a(0, 1) * y + a(0, 2));
     if constexpr (kAlongRows) {
-      const float* row = data + static_cast<size_t>(std::lround(a(1, 2))) * step + y * step;
+      const float* row = centre_row + static_cast<ptrdiff_t>(y) * step;
       for (int x = -hx; x <= hx; ++x, ++k, xs += dxx) {
         const int x0 = static_cast<int>(xs);  // >= 0
         const float t = xs - x0;
@@ -155,7 +156,7 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   if constexpr (kAlongRows) warp.block<1, 2>(1, 0) << 0.0, 1.0;
   warp(0, 2) = start.x();
   warp(1, 2) = kAlongRows ? std::round(start.y()) : start.y();
-  const Eigen::RowVector3d before_row = warp.row(1);
+  const Eigen::RowVector3d fixed_row = warp.row(1);  // along rows: never changes
   for (result.iterations = 1; result.iterations <= o.max_iterations; ++result.iterations) {
     if (!Warp<kAlongRows>(search, warp.topRows<2>(), hx, hy, g)) {
       result.why = "search window leaves the image";
@@ -182,7 +183,7 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
     if constexpr (!kAlongRows) inc.row(1) << dp[4], 1 + dp[5], dp[3];
     const Eigen::Vector2d before = warp.block<2, 1>(0, 2);
     warp = warp * inc.inverse();
-    if constexpr (kAlongRows) warp.row(1) = before_row;  // exactly, not as an inverse gives it
+    if constexpr (kAlongRows) warp.row(1) = fixed_row;  // exactly, not as an inverse gives it
     const Eigen::Vector2d position = warp.block<2, 1>(0, 2);
     if ((position - start).norm() > o.max_shift_px) {
       result.why = "moved more than max_shift_px from the start";
@@ -194,9 +195,10 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
     const double sum_v2 = std::max(0.0, var_f - r1 * sfg);
     const double sigma0_sq = sum_v2 / (n - K - 2);
     const MatrixK inverse = ldlt.solve(MatrixK::Identity());
-    Eigen::Matrix2d template_cov = Eigen::Matrix2d::Zero();
-    template_cov(0, 0) = inverse(0, 0);
-    if constexpr (!kAlongRows)
+    Eigen::Matrix2d template_cov = Eigen::Matrix2d::Zero();  // of (a0, b0)
+    if constexpr (kAlongRows)
+      template_cov(0, 0) = inverse(0, 0);
+    else
       template_cov << inverse(0, 0), inverse(0, 3), inverse(3, 0), inverse(3, 3);
     const Eigen::Matrix2d linear = warp.topLeftCorner<2, 2>();
     const Eigen::Matrix2d cov = sigma0_sq * linear * template_cov * linear.transpose();
