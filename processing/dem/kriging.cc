@@ -27,6 +27,16 @@ bool KrigingOptions::Check(std::string* why) const {
   return false;
 }
 
+namespace {
+
+void CheckVariances(const KrigingPoints& points, const char* where) {
+  if (!points.height_variances_m2.empty() &&
+      points.height_variances_m2.size() != points.positions.size())
+    throw std::invalid_argument(std::string(where) + ": one height variance per point, or none");
+}
+
+}  // namespace
+
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
   if (!(cell_m > 0.0)) return points;
   const bool weighted = !points.height_variances_m2.empty();
@@ -101,10 +111,9 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
                const KrigingOptions& o, Raster* dem, Raster* std_dev) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
+  CheckVariances(kriging_points, "KrigeOnto");
   const std::vector<Eigen::Vector3d>& points = kriging_points.positions;
   const std::vector<double>& variances = kriging_points.height_variances_m2;
-  if (!variances.empty() && variances.size() != points.size())
-    throw std::invalid_argument("KrigeOnto: one height variance per point, or none");
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
@@ -155,9 +164,7 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
 KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const KrigingOptions& o) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
-  if (!points.height_variances_m2.empty() &&
-      points.height_variances_m2.size() != points.positions.size())
-    throw std::invalid_argument("KrigeDem: one height variance per point, or none");
+  CheckVariances(points, "KrigeDem");  // before thinning indexes them
   KrigingResult result;
   const KrigingPoints thinned = ThinPoints(points, o.thin_cell_m);
   result.points_used = thinned.positions.size();
