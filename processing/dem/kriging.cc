@@ -35,31 +35,6 @@ void CheckVariances(const KrigingPoints& points, const char* where) {
     throw std::invalid_argument(std::string(where) + ": one height variance per point, or none");
 }
 
-}  // namespace
-
-KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
-  if (!(cell_m > 0.0)) return points;
-  const bool weighted = !points.height_variances_m2.empty();
-  const GridIndex grid(points.positions, cell_m);
-  KrigingPoints thinned;
-  for (int r = 0; r < grid.rows(); ++r)
-    for (int c = 0; c < grid.cols(); ++c) {
-      const int count = grid.Count(c, r);
-      if (count == 0) continue;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      double variance_sum = 0.0;
-      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
-        sum += points.positions[*i];
-        if (weighted) variance_sum += points.height_variances_m2[*i];
-      }
-      thinned.positions.push_back(sum / count);
-      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count / count);
-    }
-  return thinned;
-}
-
-namespace {
-
 struct Candidate {
   double distance;
   int index;
@@ -106,6 +81,27 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
 }
 
 }  // namespace
+
+KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
+  if (!(cell_m > 0.0)) return points;
+  const bool weighted = !points.height_variances_m2.empty();
+  const GridIndex grid(points.positions, cell_m);
+  KrigingPoints thinned;
+  for (int r = 0; r < grid.rows(); ++r)
+    for (int c = 0; c < grid.cols(); ++c) {
+      const int count = grid.Count(c, r);
+      if (count == 0) continue;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      double variance_sum = 0.0;
+      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
+        sum += points.positions[*i];
+        if (weighted) variance_sum += points.height_variances_m2[*i];
+      }
+      thinned.positions.push_back(sum / count);
+      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count / count);
+    }
+  return thinned;
+}
 
 void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
                const KrigingOptions& o, Raster* dem, Raster* std_dev) {
