@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
+#include <opencv2/core/hal/intrin.hpp>
 #include <vector>
 
 namespace ts {
@@ -44,6 +45,39 @@ ImageGradients ComputeGradients(const cv::Mat& image) {
 
 namespace {
 
+// out[i] = row linearly interpolated at x + i dx, i < count (all positions >= 0 and inside).
+// Four samples at a time (OpenCV's universal intrinsics: SSE, NEON); when the four fall on
+// consecutive pixels, as they mostly do with dx near 1, from two plain loads instead of a
+// gather.
+void RowSamples(const float* row, float x, float dx, int count, float* out) {
+  int i = 0;
+#if CV_SIMD128
+  const cv::v_float32x4 offsets = cv::v_float32x4(0.0f, 1.0f, 2.0f, 3.0f) * cv::v_setall_f32(dx);
+  alignas(16) int index[4];
+  for (; i + 4 <= count; i += 4) {
+    const cv::v_float32x4 xs = cv::v_setall_f32(x + static_cast<float>(i) * dx) + offsets;
+    const cv::v_int32x4 x0 = cv::v_trunc(xs);
+    const cv::v_float32x4 t = xs - cv::v_cvt_f32(x0);
+    cv::v_store_aligned(index, x0);
+    cv::v_float32x4 a, b;
+    if (index[3] - index[0] == 3) {
+      a = cv::v_load(row + index[0]);
+      b = cv::v_load(row + index[0] + 1);
+    } else {
+      a = cv::v_lut(row, x0);
+      b = cv::v_lut(row + 1, x0);
+    }
+    cv::v_store(out + i, cv::v_fma(t, b - a, a));
+  }
+#endif
+  for (; i < count; ++i) {
+    const float xs = x + static_cast<float>(i) * dx;
+    const int x0 = static_cast<int>(xs);
+    const float t = xs - static_cast<float>(x0);
+    out[i] = row[x0] + t * (row[x0 + 1] - row[x0]);
+  }
+}
+
 // Resamples the search window under the affine warp (search = A [x y 1]^T); false if any
 // sample falls outside the image. Along rows only (A's second row is [0 1 y]): every sample of
 // a row lies on one image row, so the interpolation is linear, not bilinear.
@@ -64,12 +98,8 @@ bool Warp(const cv::Mat& search, const Eigen::Matrix<double, 2, 3>& a, int hx, i
   for (int y = -hy; y <= hy; ++y) {
     float xs = static_cast<float>(a(0, 0) * -hx + a(0, 1) * y + a(0, 2));
     if constexpr (kAlongRows) {
-      const float* row = centre_row + static_cast<ptrdiff_t>(y) * step;
-      for (int x = -hx; x <= hx; ++x, ++k, xs += dxx) {
-        const int x0 = static_cast<int>(xs);  // >= 0
-        const float t = xs - x0;
-        out[k] = row[x0] + t * (row[x0 + 1] - row[x0]);
-      }
+      RowSamples(centre_row + static_cast<ptrdiff_t>(y) * step, xs, dxx, 2 * hx + 1, out + k);
+      k += 2 * hx + 1;
     } else {
       float ys = static_cast<float>(a(1, 0) * -hx + a(1, 1) * y + a(1, 2));
       for (int x = -hx; x <= hx; ++x, ++k, xs += dxx, ys += dyx) {
@@ -103,26 +133,31 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   }
   // Per-thread scratch: the centred template, the steepest-descent images d f / d(a0 a1 a2
   // [b0 b1 b2]) at the identity warp, and the resampled search window.
+  // Side by side, so that one matrix-vector product per iteration gives all the sums of the
+  // resampled window: its products with the K columns, with the template, and with ones.
   thread_local std::vector<float> buffer;
-  buffer.resize((K + 2) * static_cast<size_t>(n));
-  float* f = buffer.data();
-  float* g = f + n;
+  buffer.resize((K + 3) * static_cast<size_t>(n));
   float* sd[K];
-  for (int j = 0; j < K; ++j) sd[j] = g + (j + 1) * n;
-  double mean_f = 0.0;
-  for (int y = -hy, k = 0; y <= hy; ++y) {
-    const float* fr = templ.ptr<float>(centre.y + y) + centre.x;
-    const float* gx = tg.dx.ptr<float>(centre.y + y) + centre.x;
-    const float* gy = tg.dy.ptr<float>(centre.y + y) + centre.x;
-    for (int x = -hx; x <= hx; ++x, ++k) {
-      f[k] = fr[x];
-      mean_f += fr[x];
-      sd[0][k] = gx[x], sd[1][k] = gx[x] * x, sd[2][k] = gx[x] * y;
-      if constexpr (!kAlongRows) sd[3][k] = gy[x], sd[4][k] = gy[x] * x, sd[5][k] = gy[x] * y;
+  for (int j = 0; j < K; ++j) sd[j] = buffer.data() + j * n;
+  float* f = buffer.data() + K * n;
+  float* ones = f + n;
+  float* g = ones + n;
+  std::fill(ones, ones + n, 1.0f);
+  const int w = 2 * hx + 1;
+  for (int y = -hy, k = 0; y <= hy; ++y, k += w) {
+    const float* fr = templ.ptr<float>(centre.y + y) + centre.x - hx;
+    const float* gx = tg.dx.ptr<float>(centre.y + y) + centre.x - hx;
+    const float* gy = tg.dy.ptr<float>(centre.y + y) + centre.x - hx;
+    for (int i = 0; i < w; ++i) {
+      const float x = static_cast<float>(i - hx);
+      f[k + i] = fr[i];
+      sd[0][k + i] = gx[i], sd[1][k + i] = gx[i] * x, sd[2][k + i] = gx[i] * y;
+      if constexpr (!kAlongRows)
+        sd[3][k + i] = gy[i], sd[4][k + i] = gy[i] * x, sd[5][k + i] = gy[i] * y;
     }
   }
-  mean_f /= n;
-  for (int k = 0; k < n; ++k) f[k] = static_cast<float>(f[k] - mean_f);
+  const double mean_f = static_cast<double>(Eigen::Map<Eigen::VectorXf>(f, n).sum()) / n;
+  Eigen::Map<Eigen::VectorXf>(f, n).array() -= static_cast<float>(mean_f);
   const double var_f = Eigen::Map<Eigen::VectorXf>(f, n).squaredNorm();  // n x variance
   if (!(var_f > 1e-6 * n)) {
     result.why = "no texture: template is flat";
@@ -136,6 +171,7 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   using MapVector = Eigen::Map<Eigen::VectorXf>;
   const MapVector fv(f, n), gv(g, n);
   Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, K>> jacobian(sd[0], n, K);
+  const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, K + 2>> sums(sd[0], n, K + 2);
   for (int j = 0; j < K; ++j) {
     auto column = jacobian.col(j);
     const float mean = column.mean(), along = static_cast<float>(column.dot(fv) / var_f);
@@ -162,8 +198,8 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
       result.why = "search window leaves the image";
       return result;
     }
-    const double sg = gv.sum(), sgg = gv.squaredNorm(), sfg = fv.dot(gv);
-    const Eigen::Matrix<float, K, 1> dots = jacobian.transpose() * gv;
+    const Eigen::Matrix<float, K + 2, 1> dots = sums.transpose() * gv;  // J^T g, f.g, sum g
+    const double sfg = dots[K], sg = dots[K + 1], sgg = gv.squaredNorm();
     const double var_g = sgg - sg * sg / n;  // n times the variance
     if (!(var_g > 1e-6 * n)) {
       result.why = "no texture: search window is flat";
