@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -186,30 +187,94 @@ DisparityMap MatchPyramid(const cv::Mat& left, const cv::Mat& right, int d_min, 
   return map;
 }
 
+namespace {
+
+// sum of a[i] b[i], i < count (a multiple of four): four lanes at a time where there are SIMD
+// registers (OpenCV's universal intrinsics).
+float PaddedDot(const float* a, const float* b, int count) {
+#if CV_SIMD128
+  cv::v_float32x4 sum = cv::v_setzero_f32();
+  for (int i = 0; i < count; i += 4) sum = cv::v_fma(cv::v_load(a + i), cv::v_load(b + i), sum);
+  return cv::v_reduce_sum(sum);
+#else
+  float sum = 0.0f;
+  for (int i = 0; i < count; ++i) sum += a[i] * b[i];
+  return sum;
+#endif
+}
+
+// sum of a[i], i < count (a multiple of four), likewise.
+float PaddedSum(const float* a, int count) {
+#if CV_SIMD128
+  cv::v_float32x4 sum = cv::v_setzero_f32();
+  for (int i = 0; i < count; i += 4) sum += cv::v_load(a + i);
+  return cv::v_reduce_sum(sum);
+#else
+  float sum = 0.0f;
+  for (int i = 0; i < count; ++i) sum += a[i];
+  return sum;
+#endif
+}
+
+}  // namespace
+
 int BestDisparityAt(const cv::Mat& from, const cv::Mat& to, int u, int v, int lo, int hi, int h,
                     int sign, double* score) {
   if (v < h || v + h >= from.rows || u < h || u + h >= from.cols) return -1;
-  const int n = (2 * h + 1) * (2 * h + 1);
-  double sf = 0, sff = 0;
+  // The candidates whose windows fit: columns c = u - sign d, from c_first to c_first + hi - lo.
+  lo = std::max({lo, 0, sign > 0 ? u - to.cols + 1 + h : h - u});
+  hi = std::min(hi, sign > 0 ? u - h : to.cols - 1 - h - u);
+  if (score) *score = -2.0;
+  if (lo > hi) return -1;
+  const int w = 2 * h + 1, n = w * w;
+  // The window of `from` less its mean, each row padded with zeros to whole chunks of four;
+  // the sums below then run over whole chunks.
+  const int stride = (w + 3) & ~3;
+  cv::AutoBuffer<float, 256> window(static_cast<size_t>(w) * stride);  // on the stack for h <= 7
+  std::fill(window.data(), window.data() + window.size(), 0.0f);
+  for (int y = 0; y < w; ++y)
+    std::copy_n(from.ptr<float>(v - h + y) + u - h, w, window.data() + y * stride);
+  const float mean = PaddedSum(window.data(), w * stride) / n;
+  for (int y = 0; y < w; ++y)
+    for (int x = 0; x < w; ++x) window[y * stride + x] -= mean;
+  const double vf = PaddedDot(window.data(), window.data(), w * stride);  // n times the variance
+  // Column sums of the candidates' rows in `to` (less the same mean, against cancellation),
+  // over every column a candidate window covers; a window's sums are then w columns'.
+  const int c_first = std::min(u - sign * lo, u - sign * hi);
+  const int first = c_first - h, columns = hi - lo + w;
+  cv::AutoBuffer<float, 128> column_sum(columns), column_sq(columns);
+  std::fill(column_sum.data(), column_sum.data() + columns, 0.0f);
+  std::fill(column_sq.data(), column_sq.data() + columns, 0.0f);
   for (int y = -h; y <= h; ++y) {
-    const float* f = from.ptr<float>(v + y);
-    for (int x = -h; x <= h; ++x) sf += f[u + x], sff += f[u + x] * f[u + x];
+    const float* t = to.ptr<float>(v + y) + first;
+    for (int x = 0; x < columns; ++x) {
+      const float value = t[x] - mean;
+      column_sum[x] += value;
+      column_sq[x] += value * value;
+    }
   }
-  const double vf = sff - sf * sf / n;
   int best_d = -1;
   double best = -2.0;
-  for (int d = std::max(lo, 0); d <= hi; ++d) {
+  for (int d = lo; d <= hi; ++d) {
     const int c = u - sign * d;
-    if (c - h < 0 || c + h >= to.cols) continue;
-    double st = 0, stt = 0, sft = 0;
-    for (int y = -h; y <= h; ++y) {
-      const float* f = from.ptr<float>(v + y) + u;
-      const float* t = to.ptr<float>(v + y) + c;
-      for (int x = -h; x <= h; ++x) st += t[x], stt += t[x] * t[x], sft += f[x] * t[x];
+    // Whole padded rows where they stay inside the image (the padding meets zeros); else the
+    // window's own width.
+    const bool padded = c - h + stride <= to.cols;
+    double sft = 0.0;
+    for (int y = 0; y < w; ++y) {
+      const float* t = to.ptr<float>(v - h + y) + c - h;
+      const float* f = window.data() + y * stride;
+      if (padded) {
+        sft += PaddedDot(f, t, stride);
+      } else {
+        for (int x = 0; x < w; ++x) sft += f[x] * t[x];
+      }
     }
-    const double var = vf * (stt - st * st / n);
+    float st = 0.0f, stt = 0.0f;
+    for (int x = c - h - first; x <= c + h - first; ++x) st += column_sum[x], stt += column_sq[x];
+    const double var = vf * (stt - static_cast<double>(st) * st / n);
     if (!(var > 1e-6)) continue;
-    const double ncc = (sft - sf * st / n) / std::sqrt(var);
+    const double ncc = sft / std::sqrt(var);  // the window of `from` has zero mean
     if (ncc > best) best = ncc, best_d = d;
   }
   if (score) *score = best;
