@@ -51,8 +51,17 @@ void SimulatedStation(const std::string& scene, bench::Table* table) {
   std::vector<cv::Mat> left_ranges;
   const std::vector<StereoPairImages> pairs = RenderStation(*station, &left_ranges);
 
-  const StationMatchResult result = MatchStation(cal, pairs, PairMatchOptions{});
-  const double wall_s = result.rectification_s + result.pairs_s;
+  // Timed three times: this VM's wall times vary by 15-30 % between runs of the same code, so
+  // the target is judged on the median; the fastest and slowest are reported beside it.
+  constexpr int kTimedRuns = 3;
+  StationMatchResult result;
+  std::vector<double> walls_s;
+  for (int run = 0; run < kTimedRuns; ++run) {
+    result = MatchStation(cal, pairs, PairMatchOptions{});
+    walls_s.push_back(result.rectification_s + result.pairs_s);
+  }
+  std::sort(walls_s.begin(), walls_s.end());
+  const double wall_s = walls_s[kTimedRuns / 2];
 
   // Each point of the timed cloud back into its pair's rectified left view: the template
   // centre it was matched at, its disparity, and there the true range.
@@ -109,7 +118,10 @@ void SimulatedStation(const std::string& scene, bench::Table* table) {
   table->Add({s + "RMS range error / sigma (<= 30 m)", ratio_rms, "", "0.7 .. 1.5",
               ratio_rms >= 0.7 && ratio_rms <= 1.5});
   table->Add({s + "rectification maps", result.rectification_s, "s", ""});
-  table->Add({s + "match + intersect 12 pairs", wall_s, "s", "<= 2.5", wall_s <= 2.5});
+  table->Add(
+      {s + "match + intersect 12 pairs (median of 3)", wall_s, "s", "<= 2.5", wall_s <= 2.5});
+  table->Add({s + "  fastest of the 3", walls_s.front(), "s", ""});
+  table->Add({s + "  slowest of the 3", walls_s.back(), "s", ""});
   table->Add({s + "points in the merged cloud", static_cast<double>(result.cloud.size()), "", ""});
 }
 
