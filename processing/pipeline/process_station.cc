@@ -33,6 +33,8 @@ bool ProcessOptions::Check(std::string* why) const {
     err = "sight-line objects: " + err;
   else if (!ground.Check(&err))
     err = "ground filter: " + err;
+  else if (!underside_patches.Check(&err))
+    err = "underside patches: " + err;
   else if (!kriging.Check(&err))
     err = "kriging: " + err;
   if (err.empty()) return true;
@@ -161,10 +163,15 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
       kept.push_back(region[i]), kept_index.push_back(index);
   }
   const GroundFilterResult ground = FilterGround(kept, o.ground);
+  Eigen::Vector3d station_viewpoint = Eigen::Vector3d::Zero();  // the cameras' mean centre
+  for (const auto& [pair, centre] : viewpoints) station_viewpoint += centre / viewpoints.size();
+  const UndersidePatches underside =
+      FindUndersidePatches(kept, ground.ground, station_viewpoint, o.underside_patches);
   KrigingPoints ground_points;
   for (size_t i = 0; i < kept.size(); ++i) {
-    class_of[kept_index[i]] = ground.ground[i] ? kGround : kObject;
-    if (!ground.ground[i]) continue;
+    const bool is_ground = ground.ground[i] && !underside.underside[i];
+    class_of[kept_index[i]] = is_ground ? kGround : kObject;
+    if (!is_ground) continue;
     ground_points.positions.push_back(kept[i]);
     ground_points.height_variances_m2.push_back(cloud[kept_index[i]].covariance_m2(2, 2));
   }
@@ -264,6 +271,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"objects", objects},
                       {"floating", seen.floating_count},
                       {"on_faces", seen.face_count},
+                      {"underside_patches", underside.underside_patches},
                       {"ground", ground_points.positions.size()},
                       {"kriging_points", kriged.points_used}};
   nlohmann::json per_pair = nlohmann::json::array();

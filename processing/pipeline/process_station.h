@@ -14,6 +14,7 @@
 #include "processing/cloud/height_blunder_filter.h"
 #include "processing/cloud/point_cloud.h"
 #include "processing/cloud/sight_line_objects.h"
+#include "processing/cloud/underside_patches.h"
 #include "processing/common/result.h"
 #include "processing/dem/kriging.h"
 #include "processing/gravity/terrain_correction.h"
@@ -63,6 +64,7 @@ struct ProcessOptions {
     g.slope = 0.08;
     return g;
   }();
+  UndersidePatchOptions underside_patches;
   KrigingOptions kriging;
   PanoramaOptions panorama;
   TerrainCorrectionOptions terrain_correction;

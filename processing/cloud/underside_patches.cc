@@ -1,0 +1,101 @@
+#include "processing/cloud/underside_patches.h"
+
+#include <Eigen/Cholesky>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "processing/cloud/grid_index.h"
+
+namespace ts {
+
+bool UndersidePatchOptions::Check(std::string* why) const {
+  std::string err;
+  if (!(cell_m > 0.0))
+    err = "cell_m must be positive";
+  else if (gap_cells < 0)
+    err = "gap_cells must not be negative";
+  else if (!(max_area_m2 >= 0.0))
+    err = "max_area_m2 must not be negative";
+  else if (min_points < 3)
+    err = "min_points must be at least 3 (a plane)";
+  else if (!(slope_margin >= 0.0))
+    err = "slope_margin must not be negative";
+  if (err.empty()) return true;
+  if (why) *why = err;
+  return false;
+}
+
+UndersidePatches FindUndersidePatches(const std::vector<Eigen::Vector3d>& points,
+                                      const std::vector<uint8_t>& ground,
+                                      const Eigen::Vector3d& viewpoint,
+                                      const UndersidePatchOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("UndersidePatchOptions: " + why);
+  if (ground.size() != points.size())
+    throw std::invalid_argument("FindUndersidePatches: one ground flag per point is needed");
+  UndersidePatches result;
+  result.underside.assign(points.size(), 0);
+  std::vector<Eigen::Vector3d> ground_points;
+  std::vector<int> ground_index;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (ground[i] && points[i].allFinite())
+      ground_points.push_back(points[i]), ground_index.push_back(static_cast<int>(i));
+  const GridIndex grid(ground_points, o.cell_m);
+  if (grid.cols() == 0) return result;
+
+  // Patches: the ground cells, joined where at most gap_cells empty cells apart (dilated by
+  // half the gap, they touch).
+  cv::Mat occupied(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
+  for (int r = 0; r < grid.rows(); ++r)
+    for (int c = 0; c < grid.cols(); ++c)
+      if (grid.Count(c, r) > 0) occupied.at<uint8_t>(r, c) = 255;
+  const int half_gap = (o.gap_cells + 1) / 2;
+  cv::Mat joined, labels;
+  cv::dilate(
+      occupied, joined,
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half_gap + 1, 2 * half_gap + 1)));
+  const int count = cv::connectedComponents(joined, labels, 8, CV_32S);
+  std::vector<std::vector<cv::Point>> cells(count);
+  for (int r = 0; r < grid.rows(); ++r)
+    for (int c = 0; c < grid.cols(); ++c)
+      if (occupied.at<uint8_t>(r, c)) cells[labels.at<int>(r, c)].emplace_back(c, r);
+
+  const double cell_area = o.cell_m * o.cell_m;
+  for (int label = 1; label < count; ++label) {  // 0: the background
+    if (cells[label].size() * cell_area >= o.max_area_m2) continue;
+    ++result.small_patches;
+    std::vector<int> members;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const cv::Point& p : cells[label])
+      for (const int* i = grid.begin(p.x, p.y); i != grid.end(p.x, p.y); ++i)
+        members.push_back(*i), mean += ground_points[*i];
+    if (static_cast<int>(members.size()) < o.min_points) continue;
+    mean /= static_cast<double>(members.size());
+    // z = a + b x + c y about the patch's mean point.
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (const int i : members) {
+      const Eigen::Vector3d q = ground_points[i] - mean;
+      const Eigen::Vector3d a(1.0, q.x(), q.y());
+      normal += a * a.transpose();
+      rhs += a * q.z();
+    }
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(normal);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+        !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff()))
+      continue;  // points on a line: no plane
+    const Eigen::Vector3d plane = ldlt.solve(rhs);
+    const Eigen::Vector3d sight = mean - viewpoint;
+    const double run = sight.head<2>().norm();
+    if (!(run > 0.0)) continue;
+    const Eigen::Vector2d away = sight.head<2>() / run;
+    const double terrain_slope = plane[1] * away.x() + plane[2] * away.y();
+    const double sight_slope = sight.z() / run;
+    if (terrain_slope >= sight_slope - o.slope_margin) continue;
+    ++result.underside_patches;
+    for (const int i : members) result.underside[ground_index[i]] = 1;
+  }
+  return result;
+}
+
+}  // namespace ts
