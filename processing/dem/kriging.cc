@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <vector>
 
 #include "processing/cloud/grid_index.h"
 
@@ -14,6 +15,8 @@ bool KrigingOptions::Check(std::string* why) const {
   std::string err;
   if (neighbours < 1 || neighbours > 64)
     err = "neighbours must be in [1, 64]";
+  else if (extrapolation_neighbours < 0 || extrapolation_neighbours > 256)
+    err = "extrapolation_neighbours must be in [0, 256]";
   else if (!(search_radius_m > 0.0))
     err = "search_radius_m must be positive";
   else if (!(max_distance_m > 0.0))
@@ -80,6 +83,20 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
     if (static_cast<int>(out->size()) < n) out->push_back(k);
 }
 
+// Whether (x, y) lies beyond the edge of its neighbours: all of them within a half-plane
+// through it (the largest angular gap between them, seen from it, exceeds 180 degrees).
+bool BeyondTheEdge(const std::vector<Eigen::Vector3d>& points, const std::vector<Candidate>& near,
+                   double x, double y) {
+  std::vector<double> angles;
+  for (const Candidate& k : near)
+    angles.push_back(std::atan2(points[k.index].y() - y, points[k.index].x() - x));
+  if (angles.size() < 2) return true;
+  std::sort(angles.begin(), angles.end());
+  double gap = 2.0 * M_PI - (angles.back() - angles.front());
+  for (size_t i = 1; i < angles.size(); ++i) gap = std::max(gap, angles[i] - angles[i - 1]);
+  return gap > M_PI;
+}
+
 }  // namespace
 
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
@@ -122,6 +139,11 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
         const double x = dem->CellCentreX(col), y = dem->CellCentreY(row);
         FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, &near);
         if (near.empty() || near.front().distance > o.max_distance_m) continue;
+        // Beyond the edge of the data the drift is extrapolated: from more neighbours, a slope
+        // of the region rather than of the edge's last metre.
+        if (o.linear_drift && o.extrapolation_neighbours > o.neighbours &&
+            BeyondTheEdge(points, near, x, y))
+          FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, &near);
         const int n = static_cast<int>(near.size());
         // Local linear drift (universal kriging) where the points allow: a gap on a slope is
         // bridged along the slope, not levelled towards the neighbours' mean.

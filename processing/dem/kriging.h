@@ -38,6 +38,11 @@ struct KrigingOptions {
   // Universal kriging with a local linear drift (x, y in the unbiasedness constraints) instead
   // of ordinary kriging. Measured on the simulated slope (20 deg): RMSE 0.27 -> 0.08 m.
   bool linear_drift = true;
+  // Neighbours for a cell beyond the edge of the data (all its neighbours on one side), where the
+  // drift is extrapolated; no more than `neighbours` turns this off. Measured on the simulated
+  // forest, where the last metre before an occlusion shadow often slopes (tree bases, canopy
+  // edges): DEM RMSE 0.364 -> 0.343 m with 64; hills 0.170 -> 0.174 m.
+  int extrapolation_neighbours = 64;
   VariogramOptions variogram;
   bool Check(std::string* why) const;
 };

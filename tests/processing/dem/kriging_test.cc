@@ -116,6 +116,40 @@ TEST(Kriging, LinearDriftBridgesAGapOnASlope) {
   EXPECT_LT(dem.at(0, 3), 0.3 * 3.5 - 0.5);
 }
 
+// The same slope, but the last metre and a half before the edge drops away (as at the foot of
+// a grove, where tree bases and canopy edges slope). The 16 nearest points of a cell 3 m
+// beyond the edge are mostly in that strip and extrapolate its slope; with the extrapolation
+// neighbours the drift is estimated over more of the region. (The exact interpolator still
+// starts from the dropped edge heights, so the error shrinks, it does not vanish: by a fifth
+// here.) On the plane itself both reproduce it, and cells inside the data are untouched.
+TEST(Kriging, BeyondTheEdgeTheDriftIsTheRegionsNotTheLastMetres) {
+  const auto terrain = [](double x) { return 0.3 * x; };
+  const auto cloud = [&](double drop) {
+    std::vector<Eigen::Vector3d> points;
+    for (double x = -15; x <= 0; x += 1.0)  // thinned far ground: a point a square metre
+      for (double y = -10; y <= 10; y += 1.0)
+        points.emplace_back(x, y, terrain(x) + (x > -1.5 ? -drop * (x + 1.5) : 0.0));
+    return points;
+  };
+  KrigingOptions regional;
+  regional.max_distance_m = 10.0;
+  KrigingOptions edge_only = regional;
+  edge_only.extrapolation_neighbours = 0;
+  const auto error_at = [&](const std::vector<Eigen::Vector3d>& points, const KrigingOptions& o,
+                            double x) {
+    Raster dem = Raster::Make(x - 0.5, 0.5, 1.0, 1, 1), s;
+    KrigeOnto(Alike(points), Linearish(), o, &dem, &s);
+    return dem.at(0, 0) - terrain(x);
+  };
+  EXPECT_NEAR(error_at(cloud(0.0), regional, 3.0), 0.0, 1e-3);
+  EXPECT_NEAR(error_at(cloud(0.0), edge_only, 3.0), 0.0, 1e-3);
+  const double with_region = error_at(cloud(0.6), regional, 3.0);
+  const double with_edge = error_at(cloud(0.6), edge_only, 3.0);
+  EXPECT_LT(with_edge, -2.0);  // the strip's slope, extrapolated 3 m
+  EXPECT_LT(std::abs(with_region), 0.8 * std::abs(with_edge)) << with_region << " " << with_edge;
+  EXPECT_EQ(error_at(cloud(0.6), regional, -5.0), error_at(cloud(0.6), edge_only, -5.0));
+}
+
 TEST(Kriging, CellsFarFromEveryPointAreNodata) {
   Raster dem = Raster::Make(0, 10, 1.0, 10, 1), std_dev;
   KrigingOptions o;
@@ -167,6 +201,10 @@ TEST(Kriging, RejectsBadOptions) {
   const KrigingPoints short_of_variances{{{0, 0, 1}, {1, 0, 1}}, {0.01}};
   EXPECT_THROW(KrigeOnto(short_of_variances, Linearish(), KrigingOptions{}, &dem, &s),
                std::invalid_argument);
+  KrigingOptions bad_extrapolation;
+  bad_extrapolation.extrapolation_neighbours = -1;
+  EXPECT_FALSE(bad_extrapolation.Check(&why));
+  EXPECT_NE(why.find("extrapolation_neighbours"), std::string::npos);
 }
 
 }  // namespace
