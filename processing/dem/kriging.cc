@@ -83,6 +83,9 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
     if (static_cast<int>(out->size()) < n) out->push_back(k);
 }
 
+// Fewer neighbours than this: ordinary kriging (a local linear drift needs points to spare).
+constexpr int kMinDriftPoints = 6;
+
 // Whether (x, y) lies beyond the edge of its neighbours: all of them within a half-plane
 // through it (the largest angular gap between them, seen from it, exceeds 180 degrees).
 bool BeyondTheEdge(const std::vector<Eigen::Vector3d>& points, const std::vector<Candidate>& near,
@@ -141,13 +144,13 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
         if (near.empty() || near.front().distance > o.max_distance_m) continue;
         // Beyond the edge of the data the drift is extrapolated: from more neighbours, a slope
         // of the region rather than of the edge's last metre.
-        if (o.linear_drift && o.extrapolation_neighbours > o.neighbours &&
-            BeyondTheEdge(points, near, x, y))
+        if (o.linear_drift && static_cast<int>(near.size()) >= kMinDriftPoints &&
+            o.extrapolation_neighbours > o.neighbours && BeyondTheEdge(points, near, x, y))
           FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, &near);
         const int n = static_cast<int>(near.size());
         // Local linear drift (universal kriging) where the points allow: a gap on a slope is
         // bridged along the slope, not levelled towards the neighbours' mean.
-        const int drift = (o.linear_drift && n >= 6) ? 3 : 1;
+        const int drift = (o.linear_drift && n >= kMinDriftPoints) ? 3 : 1;
         Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + drift, n + drift);
         Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
         for (int i = 0; i < n; ++i) {

@@ -122,6 +122,7 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
     if (r.point_class[i] == kGround) ground.positions.push_back(r.cloud[i].position_m);
   KrigingOptions nearest_options = process.kriging;
   nearest_options.neighbours = 1;
+  nearest_options.extrapolation_neighbours = 0;
   Raster nearest = r.dem, unused;
   KrigeOnto(ThinPoints(ground, process.kriging.thin_cell_m), VariogramModel{}, nearest_options,
             &nearest, &unused);

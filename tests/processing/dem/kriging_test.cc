@@ -148,6 +148,11 @@ TEST(Kriging, BeyondTheEdgeTheDriftIsTheRegionsNotTheLastMetres) {
   EXPECT_LT(with_edge, -2.0);  // the strip's slope, extrapolated 3 m
   EXPECT_LT(std::abs(with_region), 0.8 * std::abs(with_edge)) << with_region << " " << with_edge;
   EXPECT_EQ(error_at(cloud(0.6), regional, -5.0), error_at(cloud(0.6), edge_only, -5.0));
+  // Too few neighbours for a drift (here one: nearest-neighbour interpolation): none is
+  // extrapolated, whatever extrapolation_neighbours says.
+  KrigingOptions nearest = regional;
+  nearest.neighbours = 1;
+  EXPECT_NEAR(error_at(cloud(0.0), nearest, 3.0), -0.3 * 3.0, 1e-9);  // the edge point's height
 }
 
 TEST(Kriging, CellsFarFromEveryPointAreNodata) {
