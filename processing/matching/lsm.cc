@@ -131,10 +131,10 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
     result.why = "template window leaves the image";
     return result;
   }
-  // Per-thread scratch: the centred template, the steepest-descent images d f / d(a0 a1 a2
-  // [b0 b1 b2]) at the identity warp, and the resampled search window.
-  // Side by side, so that one matrix-vector product per iteration gives all the sums of the
-  // resampled window: its products with the K columns, with the template, and with ones.
+  // Per-thread scratch, side by side: the steepest-descent images d f / d(a0 a1 a2 [b0 b1 b2])
+  // at the identity warp, the centred template, ones, and the resampled search window. One
+  // matrix-vector product per iteration then gives all the sums of the resampled window: its
+  // products with the K columns, with the template, and with ones.
   thread_local std::vector<float> buffer;
   buffer.resize((K + 3) * static_cast<size_t>(n));
   float* sd[K];
