@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <exception>
 
+#include "processing/common/memory.h"
 #include "station/commands.h"
 #include "station/private_network.h"
 
 int main(int argc, char** argv) {
+  ts::RetainFreedMemory();  // large image buffers are reused, not returned per pair
   CLI::App app{"topostation: stereo-panorama DEMs and terrain correction for gravity stations"};
   app.require_subcommand(1);
   ts::AddAccuracyCommand(app);

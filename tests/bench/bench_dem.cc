@@ -22,6 +22,7 @@
 #include "processing/change/dem_of_difference.h"
 #include "processing/change/subsidence_regions.h"
 #include "processing/cloud/ground_filter.h"
+#include "processing/common/memory.h"
 #include "processing/dem/dem_evaluation.h"
 #include "processing/gravity/terrain_correction.h"
 #include "processing/pipeline/process_station.h"
@@ -221,6 +222,7 @@ void IsprsSamples(bench::Table* table) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ts::RetainFreedMemory();  // as the appliance does (processing/common/memory.h)
   bench::Table table("points to DEM: simulated surveys and the ISPRS filter test");
   IsprsSamples(&table);
   for (const SceneTargets& t :

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "processing/common/memory.h"
 #include "processing/matching/station_matching.h"
 #include "sim/sim_station.h"
 #include "tests/bench/bench_table.h"
@@ -193,6 +194,7 @@ int MiddleburyCones(bench::Table* table) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ts::RetainFreedMemory();  // as the appliance does (processing/common/memory.h)
   bench::Table table("matching and intersection: simulator truth and Middlebury Cones");
   for (const char* scene : {"flat", "hills"}) SimulatedStation(scene, &table);
   if (MiddleburyCones(&table) != 0) return 1;
