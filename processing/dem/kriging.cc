@@ -86,14 +86,14 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
 // Fewer neighbours than this: ordinary kriging (a local linear drift needs points to spare).
 constexpr int kMinDriftPoints = 6;
 
-// Whether (x, y) lies beyond the edge of its neighbours: all of them within a half-plane
-// through it (the largest angular gap between them, seen from it, exceeds 180 degrees).
+// Whether (x, y) lies beyond the edge of its neighbours (at least kMinDriftPoints of them):
+// all within a half-plane through it (the largest angular gap between them, seen from it,
+// exceeds 180 degrees).
 bool BeyondTheEdge(const std::vector<Eigen::Vector3d>& points, const std::vector<Candidate>& near,
                    double x, double y) {
   std::vector<double> angles;
   for (const Candidate& k : near)
     angles.push_back(std::atan2(points[k.index].y() - y, points[k.index].x() - x));
-  if (angles.size() < 2) return true;
   std::sort(angles.begin(), angles.end());
   double gap = 2.0 * M_PI - (angles.back() - angles.front());
   for (size_t i = 1; i < angles.size(); ++i) gap = std::max(gap, angles[i] - angles[i - 1]);
