@@ -13,7 +13,9 @@ namespace ts {
 
 bool PairMatchOptions::Check(std::string* why) const {
   std::string err;
-  if (!enhance.Check(&err) || !interest.Check(&err) || !lsm.Check(&err) || !pyramid.Check(&err)) {
+  if (!enhance.Check(&err) || !interest.Check(&err) || !pyramid.Check(&err)) {
+  } else if (!lsm.Check(&err)) {
+    err = "lsm: " + err;
   } else if (dense_step_px < 0) {
     err = "dense_step_px must not be negative";
   } else if (dense_finest_level < 0) {
@@ -35,6 +37,8 @@ bool PairMatchOptions::Check(std::string* why) const {
     err = "half_resolution_within_m and far_window_from_m must not be negative";
   } else if (!far_lsm.Check(&err)) {
     err = "far_lsm: " + err;
+  } else if (!near_lsm.Check(&err)) {
+    err = "near_lsm: " + err;
   }
   if (err.empty()) return true;
   if (why) *why = err;
@@ -146,7 +150,7 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     cv::pyrDown(lsm_right, half_right);
     half_gradients = ComputeGradients(half_left);
   }
-  LsmOptions half_lsm = o.lsm;  // thresholds in full-resolution pixels
+  LsmOptions half_lsm = o.near_lsm;  // thresholds in full-resolution pixels
   half_lsm.max_sigma_px /= 2, half_lsm.max_shift_px /= 2, half_lsm.convergence_px /= 2;
   const double near_disparity = near_half ? r.focal_px * r.baseline_m / o.half_resolution_within_m
                                           : std::numeric_limits<double>::infinity();

@@ -47,6 +47,7 @@ struct ProcessOptions {
     m.lsm.half_window_px = 8;
     m.lsm.max_sigma_px = 0.075;  // smaller windows, larger sigmas
     m.far_lsm.max_sigma_px = 0.075;
+    m.near_lsm.max_sigma_px = 0.075;  // the same windows as lsm: 17 x 17
     return m;
   }();
   HeightBlunderOptions blunders;

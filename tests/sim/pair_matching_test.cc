@@ -129,5 +129,22 @@ TEST(StationMatching, PointsOfEveryPairLieOnTheTerrainInL) {
   }
 }
 
+// Each LSM window set is checked, and the message starts with the one that is wrong.
+TEST(PairMatchOptions, BadWindowOptionsAreNamed) {
+  std::string why;
+  EXPECT_TRUE(PairMatchOptions{}.Check(&why)) << why;
+  const std::pair<LsmOptions PairMatchOptions::*, std::string> windows[] = {
+      {&PairMatchOptions::lsm, "lsm: "},
+      {&PairMatchOptions::near_lsm, "near_lsm: "},
+      {&PairMatchOptions::far_lsm, "far_lsm: "}};
+  for (const auto& [member, named] : windows) {
+    PairMatchOptions o;
+    (o.*member).max_sigma_px = -1.0;
+    why.clear();
+    EXPECT_FALSE(o.Check(&why)) << named;
+    EXPECT_EQ(why.rfind(named, 0), 0u) << why;  // starts with the name
+  }
+}
+
 }  // namespace
 }  // namespace ts::sim
