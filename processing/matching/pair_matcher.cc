@@ -108,16 +108,81 @@ class SpacingFilter {
   std::unordered_set<int64_t> taken_;
 };
 
+// The map's disparity at full-resolution pixel p (in full-resolution pixels), -1 for none.
+int MapDisparity(const DisparityMap& map, cv::Point p) {
+  const int mu = p.x >> map.level, mv = p.y >> map.level;
+  if (mu >= map.disparity.cols || mv >= map.disparity.rows) return -1;
+  const int coarse = map.disparity.at<int16_t>(mv, mu);
+  return coarse < 0 ? -1 : coarse << map.level;
+}
+
 // Full-resolution integer disparity at (u, v) around the map's approximation.
 int RefineFromMap(const DisparityMap& map, const cv::Mat& from, const cv::Mat& to, int u, int v,
                   int d_min, int d_max, int h, int sign, double* score) {
-  const int mu = u >> map.level, mv = v >> map.level;
-  if (mu >= map.disparity.cols || mv >= map.disparity.rows) return -1;
-  const int coarse = map.disparity.at<int16_t>(mv, mu);
-  if (coarse < 0) return -1;
-  const int approx = coarse << map.level, radius = (1 << map.level) + 1;
+  const int approx = MapDisparity(map, {u, v});
+  if (approx < 0) return -1;
+  const int radius = (1 << map.level) + 1;
   return BestDisparityAt(from, to, u, v, std::max(d_min, approx - radius),
                          std::min(d_max, approx + radius), h, sign, score);
+}
+
+// One pair's images as matching uses them, its disparity range and where the windows change.
+struct PairContext {
+  // Wallis for finding points and searching; not for least-squares matching: its local gain
+  // varies across a window differently in the two views where perspective differs (near
+  // ground), a ramp LSM's linear radiometry cannot absorb (measured: -0.33 px bias below 8 m).
+  cv::Mat left, right;          // Gaussian and Wallis
+  cv::Mat lsm_left, lsm_right;  // Gaussian only
+  ImageGradients gradients;     // of lsm_left
+  // Half resolution for the near points (empty: none): pixel i of a pyrDown level is
+  // centred on pixel 2i.
+  cv::Mat half_left, half_right;
+  ImageGradients half_gradients;
+  LsmOptions half_lsm;  // near_lsm with its thresholds in half-resolution pixels
+  double near_disparity = std::numeric_limits<double>::infinity();  // at least: near
+  double far_disparity = -1.0;                                      // below: far
+  int d_min = 0, d_max = 0;
+};
+
+PairContext PreparePair(const Rectification& r, const cv::Mat& left_rect, const cv::Mat& right_rect,
+                        const PairMatchOptions& o) {
+  PairContext c;
+  EnhanceOptions smooth_only = o.enhance, wallis_only = o.enhance;
+  smooth_only.wallis = false;
+  wallis_only.gaussian_sigma_px = 0.0;
+  c.lsm_left = Enhance(left_rect, smooth_only);
+  c.lsm_right = Enhance(right_rect, smooth_only);
+  c.left = Enhance(c.lsm_left, wallis_only);
+  c.right = Enhance(c.lsm_right, wallis_only);
+  c.gradients = ComputeGradients(c.lsm_left);
+  // (Without a known geometry, as for an explicit disparity range, there is no depth.)
+  const bool explicit_range = o.max_disparity_px >= 0;
+  if (o.half_resolution_within_m > 0.0 && !explicit_range) {
+    cv::pyrDown(c.lsm_left, c.half_left);
+    cv::pyrDown(c.lsm_right, c.half_right);
+    c.half_gradients = ComputeGradients(c.half_left);
+    c.near_disparity = r.focal_px * r.baseline_m / o.half_resolution_within_m;
+  }
+  c.half_lsm = o.near_lsm;
+  c.half_lsm.max_sigma_px /= 2, c.half_lsm.max_shift_px /= 2, c.half_lsm.convergence_px /= 2;
+  if (o.far_window_from_m > 0.0 && !explicit_range)
+    c.far_disparity = r.focal_px * r.baseline_m / o.far_window_from_m;
+  c.d_min = explicit_range ? o.min_disparity_px : r.MinDisparityPx(o.max_depth_m);
+  c.d_max = explicit_range ? o.max_disparity_px : r.MaxDisparityPx(o.min_depth_m);
+  return c;
+}
+
+// Least squares from the integer disparity d: near points at half resolution (p even), far ones
+// with the wide, low windows. Positions and sigmas in full-resolution pixels.
+LsmResult FitSubPixel(const PairContext& c, const PairMatchOptions& o, cv::Point p, int d,
+                      bool half, const Eigen::Matrix2d* shape) {
+  if (!half)
+    return MatchLsm(c.lsm_left, c.gradients, p, c.lsm_right, Eigen::Vector2d(p.x - d, p.y),
+                    d < c.far_disparity ? o.far_lsm : o.lsm, shape);
+  LsmResult lsm = MatchLsm(c.half_left, c.half_gradients, p / 2, c.half_right,
+                           Eigen::Vector2d(p.x - d, p.y) / 2, c.half_lsm, shape);
+  lsm.position_px *= 2, lsm.sigma_x_px *= 2, lsm.sigma_y_px *= 2;
+  return lsm;
 }
 
 }  // namespace
@@ -129,52 +194,23 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   if (!o.Check(&why)) throw std::invalid_argument("pair matching: " + why);
   PairMatchSummary s;
   auto clock = std::chrono::steady_clock::now();
-  // Wallis for finding points and searching; not for least-squares matching: its local gain
-  // varies across a window differently in the two views where perspective differs (near
-  // ground), a ramp LSM's linear radiometry cannot absorb (measured: -0.33 px bias below 8 m).
-  EnhanceOptions smooth_only = o.enhance, wallis_only = o.enhance;
-  smooth_only.wallis = false;
-  wallis_only.gaussian_sigma_px = 0.0;
-  const cv::Mat lsm_left = Enhance(left_rect, smooth_only);
-  const cv::Mat lsm_right = Enhance(right_rect, smooth_only);
-  const cv::Mat left = Enhance(lsm_left, wallis_only), right = Enhance(lsm_right, wallis_only);
-  const ImageGradients gradients = ComputeGradients(lsm_left);
-  // Half resolution for the near points: pixel i of a pyrDown level is centred on pixel 2i.
-  const bool explicit_range = o.max_disparity_px >= 0;
-  // (Without a known geometry, as for an explicit disparity range, there is no depth.)
-  const bool near_half = o.half_resolution_within_m > 0.0 && !explicit_range;
-  cv::Mat half_left, half_right;
-  ImageGradients half_gradients;
-  if (near_half) {
-    cv::pyrDown(lsm_left, half_left);
-    cv::pyrDown(lsm_right, half_right);
-    half_gradients = ComputeGradients(half_left);
-  }
-  LsmOptions half_lsm = o.near_lsm;  // thresholds in full-resolution pixels
-  half_lsm.max_sigma_px /= 2, half_lsm.max_shift_px /= 2, half_lsm.convergence_px /= 2;
-  const double near_disparity = near_half ? r.focal_px * r.baseline_m / o.half_resolution_within_m
-                                          : std::numeric_limits<double>::infinity();
-  const double far_disparity = o.far_window_from_m > 0.0 && !explicit_range
-                                   ? r.focal_px * r.baseline_m / o.far_window_from_m
-                                   : -1.0;
+  const PairContext c = PreparePair(r, left_rect, right_rect, o);
   s.enhance_s = SecondsSince(&clock);
 
-  const int d_min = explicit_range ? o.min_disparity_px : r.MinDisparityPx(o.max_depth_m);
-  const int d_max = explicit_range ? o.max_disparity_px : r.MaxDisparityPx(o.min_depth_m);
   // Approximations for both images: the right one as the mirror image of the problem.
   const DisparityMap left_map =
-      MatchPyramid(left, right, d_min, d_max, o.dense_finest_level, o.pyramid);
+      MatchPyramid(c.left, c.right, c.d_min, c.d_max, o.dense_finest_level, o.pyramid);
   cv::Mat left_flipped, right_flipped;
-  cv::flip(left, left_flipped, 1);
-  cv::flip(right, right_flipped, 1);
+  cv::flip(c.left, left_flipped, 1);
+  cv::flip(c.right, right_flipped, 1);
   DisparityMap right_map =
-      MatchPyramid(right_flipped, left_flipped, d_min, d_max, o.dense_finest_level, o.pyramid);
+      MatchPyramid(right_flipped, left_flipped, c.d_min, c.d_max, o.dense_finest_level, o.pyramid);
   cv::flip(right_map.disparity, right_map.disparity, 1);
   // Flipping a map of odd width shifts its pixels by one level-pixel against the image;
   // the full-resolution search's radius absorbs it.
 
   s.pyramid_s = SecondsSince(&clock);
-  const std::vector<cv::Point> points = Points(left, o);
+  const std::vector<cv::Point> points = Points(c.left, o);
   s.points = static_cast<int>(points.size());
   s.points_s = SecondsSince(&clock);
   const int h = o.ncc_half_window_px;
@@ -187,40 +223,29 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   Eigen::Matrix2d last_shape;
   std::unordered_set<int64_t> half_taken;  // near points snapped to one even pixel: once
   for (cv::Point p : points) {
-    const int mu = p.x >> left_map.level, mv = p.y >> left_map.level;
-    const bool mapped = mu < left_map.disparity.cols && mv < left_map.disparity.rows;
     // The pyramid's disparity: for the spacing and for near or far.
-    const int approx = mapped ? left_map.disparity.at<int16_t>(mv, mu) << left_map.level : -1;
+    const int approx = MapDisparity(left_map, p);
     if (o.min_spacing_m > 0.0 && (approx < 0 || !spacing.Free(p.x, p.y, approx))) continue;
-    const bool half = approx >= near_disparity;
+    const bool half = approx >= c.near_disparity;
     if (half) {
       p = cv::Point(2 * ((p.x + 1) / 2), 2 * ((p.y + 1) / 2));
       if (!half_taken.insert((static_cast<int64_t>(p.y) << 32) | p.x).second) continue;
     }
     double ncc = 0.0;
-    const int d = RefineFromMap(left_map, left, right, p.x, p.y, d_min, d_max, h, +1, &ncc);
+    const int d = RefineFromMap(left_map, c.left, c.right, p.x, p.y, c.d_min, c.d_max, h, +1, &ncc);
     if (d < 0 || ncc < o.min_ncc) continue;
     ++s.ncc_accepted;
     // Two-way: the right image's own search, from the matched position, must come home; first
     // at the integer match (least squares only for points that do), then at the sub-pixel one.
     double back_ncc = 0.0;
     const int back =
-        RefineFromMap(right_map, right, left, p.x - d, p.y, d_min, d_max, h, -1, &back_ncc);
+        RefineFromMap(right_map, c.right, c.left, p.x - d, p.y, c.d_min, c.d_max, h, -1, &back_ncc);
     if (back < 0 || back_ncc < o.min_ncc || std::abs(back - d) > o.max_consistency_px) continue;
     // The last fit's shape where it is a neighbour on the same surface (points come in image
     // order): on slanted ground it saves the iterations that would find the shear.
     const bool neighbour = have_last && p.y - last.y <= h &&
                            p.x - last.x <= 4 * o.lsm.half_window_px && std::abs(d - last_d) <= 2;
-    const Eigen::Matrix2d* shape = neighbour ? &last_shape : nullptr;
-    LsmResult lsm;
-    if (half) {
-      lsm = MatchLsm(half_left, half_gradients, p / 2, half_right,
-                     Eigen::Vector2d(p.x - d, p.y) / 2, half_lsm, shape);
-      lsm.position_px *= 2, lsm.sigma_x_px *= 2, lsm.sigma_y_px *= 2;
-    } else {
-      lsm = MatchLsm(lsm_left, gradients, p, lsm_right, Eigen::Vector2d(p.x - d, p.y),
-                     d < far_disparity ? o.far_lsm : o.lsm, shape);
-    }
+    const LsmResult lsm = FitSubPixel(c, o, p, d, half, neighbour ? &last_shape : nullptr);
     if (!lsm.ok) continue;
     have_last = true, last = p, last_d = d;
     last_shape << lsm.parameters[1], lsm.parameters[2], lsm.parameters[4], lsm.parameters[5];
