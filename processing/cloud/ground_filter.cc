@@ -22,6 +22,8 @@ bool GroundFilterOptions::Check(std::string* why) const {
     err = "elevation_threshold_m must be positive";
   else if (!(elevation_scaler >= 0.0))
     err = "elevation_scaler must be >= 0";
+  else if (!(object_shadow_m >= 0.0) || !(object_shadow_fall >= 0.0))
+    err = "object_shadow_m and object_shadow_fall must be >= 0";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -42,10 +44,31 @@ float Sample(const cv::Mat& grid, double col_f, double row_f) {
   return a + ty * (b - a);
 }
 
+// The filled cells near known objects, lowered by object_shadow_fall times their distance
+// from the nearest cell seen.
+void LowerObjectShadows(const GridIndex& grid, const cv::Mat& known,
+                        const std::vector<Eigen::Vector3d>& known_objects,
+                        const GroundFilterOptions& o, cv::Mat* surface) {
+  cv::Mat shadow(known.size(), CV_8UC1, cv::Scalar(0));
+  for (const Eigen::Vector3d& q : known_objects) {
+    const int c = grid.ColOf(q.x()), r = grid.RowOf(q.y());
+    if (grid.Inside(c, r)) shadow.at<uint8_t>(r, c) = 1;
+  }
+  const int reach = static_cast<int>(std::lround(o.object_shadow_m / o.cell_m));
+  cv::dilate(shadow, shadow,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * reach + 1, 2 * reach + 1}));
+  shadow.setTo(0, known);
+  cv::Mat distance;  // in cells, to the nearest cell seen
+  cv::distanceTransform(known == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const cv::Mat lowered = *surface - distance * (o.object_shadow_fall * o.cell_m);
+  lowered.copyTo(*surface, shadow);
+}
+
 }  // namespace
 
 GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
-                                const GroundFilterOptions& o) {
+                                const GroundFilterOptions& o,
+                                const std::vector<Eigen::Vector3d>& known_objects) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("GroundFilterOptions: " + why);
   GroundFilterResult result;
@@ -65,7 +88,9 @@ GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
       if (std::isfinite(z))
         lowest.at<float>(r, c) = static_cast<float>(z), known.at<uint8_t>(r, c) = 1;
     }
-  const cv::Mat surface = FillHoles(lowest, known);
+  cv::Mat surface = FillHoles(lowest, known);
+  if (o.object_shadow_m > 0.0 && !known_objects.empty())
+    LowerObjectShadows(grid, known, known_objects, o, &surface);
 
   // 2. Progressive opening: cells an opening lowers by more than the slope allows are objects.
   cv::Mat object(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));

@@ -12,6 +12,10 @@
 // A tripod's cloud holds only the face of a grove (the ground behind it is hidden): a grove
 // deeper than the largest opening reaches from the ground seen in front stays ground
 // (measured on the simulated forest; see bench_dem and the closing notes).
+// Objects already known (e.g. canopy found along the lines of sight) say where ground is
+// hidden: the filled empty cells near them fall away from the cells seen, so that the low
+// rim of a grove (bush tops, the bottom of a canopy) stands above what lies behind it and
+// the opening takes it, where the fill would otherwise carry it on as a plateau.
 #include <Eigen/Core>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -26,6 +30,15 @@ struct GroundFilterOptions {
   double max_window_m = 18.0;  // radius of the largest opening: wider than any object
   double elevation_threshold_m = 0.5;
   double elevation_scaler = 1.25;
+  // Empty cells within this of a cell holding a known object point (0: off) are filled
+  // falling away from the nearest cell seen by this much (rise over run): ground under an
+  // object lies below the object's lowest visible part. Measured on the simulated forest
+  // (`process`, bench_dem): DEM RMSE 0.343 -> 0.248 m, coverage within 30 m 90.7 -> 90.2 %,
+  // object points removed 99.5 -> 99.7 %, RMS error / kriging std 1.77 -> 1.09; reach 2 / 3 /
+  // 4 / 6 m: 0.328 / 0.329 / 0.247 / 0.248 m; fall 0.2 / 0.3 / 0.5: 0.356 / 0.247 / 0.233 m
+  // at coverage 89.4 / 90.2 / 88.8 %. Flat, hills and slope alike to the last digit.
+  double object_shadow_m = 4.0;
+  double object_shadow_fall = 0.3;
   bool Check(std::string* why) const;
 };
 
@@ -36,7 +49,9 @@ struct GroundFilterResult {
   double min_x_m = 0.0, min_y_m = 0.0, cell_m = 1.0;
 };
 
+// known_objects: points known not to be ground (not classified, only used as above).
 GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
-                                const GroundFilterOptions& options);
+                                const GroundFilterOptions& options,
+                                const std::vector<Eigen::Vector3d>& known_objects = {});
 
 }  // namespace ts

@@ -153,16 +153,19 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   for (const StereoPairImages& p : *pairs)
     viewpoints[p.index] = calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg).translation();
   const SightLineObjects seen = FindSightLineObjects(cloud, viewpoints, o.sight_lines);
-  std::vector<Eigen::Vector3d> kept;
+  std::vector<Eigen::Vector3d> kept, seen_objects;
   std::vector<int> kept_index;
   std::vector<uint8_t> class_of(cloud.size(), kOutsideDem);
   for (size_t i = 0; i < region.size(); ++i) {
     const int index = region_index[i];
     class_of[index] = blunder[i] ? kBlunder : kObject;
-    if (!blunder[i] && !seen.floating[index] && !seen.on_face[index])
+    if (blunder[i]) continue;
+    if (seen.floating[index] || seen.on_face[index])
+      seen_objects.push_back(region[i]);
+    else
       kept.push_back(region[i]), kept_index.push_back(index);
   }
-  const GroundFilterResult ground = FilterGround(kept, o.ground);
+  const GroundFilterResult ground = FilterGround(kept, o.ground, seen_objects);
   Eigen::Vector3d station_viewpoint = Eigen::Vector3d::Zero();  // the cameras' mean centre
   for (const auto& [pair, centre] : viewpoints) station_viewpoint += centre / viewpoints.size();
   const UndersidePatches underside =
