@@ -41,19 +41,13 @@ struct ProcessOptions {
   // 0.458 / 0.454 / 0.479 m; slope 0.100 / 0.097 m; process 3.60 / 3.11 / 3.01 s (hills).
   // With the row-only fit (half window 8, sigma <= 0.075 px; 10, 0.06): hills RMSE 0.173 /
   // 0.160 m, coverage within 30 m 95.2 / 94.8 %, process 2.5 / 2.7 s.
-  // The sigma limit: a less precise point still beats no point where it is the only one (the
-  // edges of occlusion shadows, ground seen at grazing angles), and kriging weighs it by its
-  // own variance. Measured (bench_dem, sigma <= 0.075 / 0.11 / 0.12 px): forest RMSE 0.248 /
-  // 0.281 / 0.289 m, coverage within 30 m 90.2 / 95.5 / 96.1 %; hills 0.176 / 0.191 / 0.193 m,
-  // 95.1 / 95.6 / 95.8 %; flat and slope within 3 mm. (Before the ground filter knew the
-  // sight-line objects, looser limits mostly let canopy through: forest 0.343 -> 0.453 m.)
   PairMatchOptions matching = [] {
     PairMatchOptions m;
     m.min_spacing_m = 0.2;
     m.lsm.half_window_px = 8;
-    m.lsm.max_sigma_px = 0.12;  // smaller windows, larger sigmas
-    m.far_lsm.max_sigma_px = 0.12;
-    m.near_lsm.max_sigma_px = 0.12;  // the same windows as lsm: 17 x 17
+    m.lsm.max_sigma_px = 0.075;  // smaller windows, larger sigmas
+    m.far_lsm.max_sigma_px = 0.075;
+    m.near_lsm.max_sigma_px = 0.075;  // the same windows as lsm: 17 x 17
     return m;
   }();
   HeightBlunderOptions blunders;
