@@ -13,6 +13,9 @@
 // Gauss-Newton iteration only resamples the search window; the radiometric parameters are
 // fitted in closed form at every iteration and projected out of the geometric Jacobian. It
 // converges to the same minimum as the classic forward form, at a fraction of the cost.
+// The Jacobian's columns are the template's gradients times (1, x, y), so it is never
+// stored: the normal matrix comes from one pass of sums over the template window, and each
+// iteration from one pass over the resampled window.
 //
 // Images are CV_32FC1; the template's gradients are passed in (compute them once per image
 // with ComputeGradients()). The search window is resampled bilinearly: on smooth texture
