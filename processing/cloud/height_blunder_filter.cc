@@ -17,6 +17,8 @@ bool HeightBlunderOptions::Check(std::string* why) const {
     err = "min_neighbours must be at least 1";
   else if (max_samples < 3)
     err = "max_samples must be at least 3";
+  else if (min_layer_points < 0 || !(layer_tolerance_m > 0.0))
+    err = "min_layer_points must not be negative and layer_tolerance_m must be positive";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -47,11 +49,20 @@ std::vector<uint8_t> FindHeightBlunders(const std::vector<Eigen::Vector3d>& poin
           for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i, ++k)
             if (k % stride == 0) heights.push_back(points[*i].z());
         }
-      auto mid = heights.begin() + heights.size() / 2;
-      std::nth_element(heights.begin(), mid, heights.end());
-      const double median = *mid;
-      for (const int* i = grid.begin(col, row); i != grid.end(col, row); ++i)
-        blunder[*i] = std::abs(points[*i].z() - median) > o.threshold_m;
+      std::sort(heights.begin(), heights.end());
+      const double median = heights[heights.size() / 2];
+      for (const int* i = grid.begin(col, row); i != grid.end(col, row); ++i) {
+        const double z = points[*i].z();
+        if (std::abs(z - median) <= o.threshold_m) continue;
+        if (o.min_layer_points > 0) {
+          // Points of the window near its height (from the sample, itself included once).
+          const auto layer =
+              std::upper_bound(heights.begin(), heights.end(), z + o.layer_tolerance_m) -
+              std::lower_bound(heights.begin(), heights.end(), z - o.layer_tolerance_m);
+          if (static_cast<double>(layer) * stride - 1 >= o.min_layer_points) continue;
+        }
+        blunder[*i] = 1;
+      }
     }
   return blunder;
 }
