@@ -5,9 +5,11 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "processing/cloud/grid_index.h"
+#include "processing/common/angles.h"
 
 namespace ts {
 
@@ -94,10 +96,7 @@ bool BeyondTheEdge(const std::vector<Eigen::Vector3d>& points, const std::vector
   std::vector<double> angles;
   for (const Candidate& k : near)
     angles.push_back(std::atan2(points[k.index].y() - y, points[k.index].x() - x));
-  std::sort(angles.begin(), angles.end());
-  double gap = 2.0 * M_PI - (angles.back() - angles.front());
-  for (size_t i = 1; i < angles.size(); ++i) gap = std::max(gap, angles[i] - angles[i - 1]);
-  return gap > M_PI;
+  return LargestAngularGap(std::move(angles)) > M_PI;
 }
 
 }  // namespace
