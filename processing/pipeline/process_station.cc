@@ -33,6 +33,8 @@ bool ProcessOptions::Check(std::string* why) const {
     err = "sight-line objects: " + err;
   else if (!ground.Check(&err))
     err = "ground filter: " + err;
+  else if (!horizon.Check(&err))
+    err = "horizon: " + err;
   else if (!underside_patches.Check(&err))
     err = "underside patches: " + err;
   else if (!kriging.Check(&err))
@@ -199,6 +201,19 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   grid.crs_wkt = crs_wkt;
   KrigingResult kriged = KrigeDem(ground_points, grid, o.kriging);
   kriged.dem.crs_wkt = kriged.std.crs_wkt = crs_wkt;
+  // Extrapolated past a brow, no higher than the horizon (every point seen, ground or not).
+  std::vector<Eigen::Vector3d> seen_points = kept;
+  std::vector<uint8_t> seen_ground(kept.size(), 0);
+  for (size_t i = 0; i < kept.size(); ++i) seen_ground[i] = class_of[kept_index[i]] == kGround;
+  seen_points.insert(seen_points.end(), seen_objects.begin(), seen_objects.end());
+  seen_ground.resize(seen_points.size(), 0);
+  Eigen::Vector3d viewpoint = station_viewpoint;
+  if (georeference) {
+    for (Eigen::Vector3d& p : seen_points) p = georeference->ToWorld(p);
+    viewpoint = georeference->ToWorld(viewpoint);
+  }
+  const HorizonLimitResult horizon =
+      LimitToHorizon(seen_points, seen_ground, viewpoint, o.horizon, &kriged.dem);
   const double coverage_30m = DemCoverage(kriged.dem, station_xy, 30.0);
   const double coverage_square = DemCoverage(kriged.dem, station_xy, 0.0);
   if (coverage_30m < 0.95)
@@ -275,6 +290,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"floating", seen.floating_count},
                       {"on_faces", seen.face_count},
                       {"underside_patches", underside.underside_patches},
+                      {"cells_lowered_to_horizon", horizon.cells_lowered},
                       {"ground", ground_points.positions.size()},
                       {"kriging_points", kriged.points_used}};
   nlohmann::json per_pair = nlohmann::json::array();

@@ -16,6 +16,7 @@
 #include "processing/cloud/sight_line_objects.h"
 #include "processing/cloud/underside_patches.h"
 #include "processing/common/result.h"
+#include "processing/dem/horizon_limit.h"
 #include "processing/dem/kriging.h"
 #include "processing/gravity/terrain_correction.h"
 #include "processing/io/raster.h"
@@ -67,6 +68,7 @@ struct ProcessOptions {
   }();
   UndersidePatchOptions underside_patches;
   KrigingOptions kriging;
+  HorizonLimitOptions horizon;
   PanoramaOptions panorama;
   TerrainCorrectionOptions terrain_correction;
   // Called at the start of every stage with its name (from the calling thread).

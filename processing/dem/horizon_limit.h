@@ -1,0 +1,52 @@
+#pragma once
+// Ground hidden behind a brow lies below the horizon. A tripod sees the terrain up to a brow and
+// then, over it, farther ground or nothing; the hollow behind the brow is hidden because it
+// falls away faster than the line of sight over the brow. Kriging extrapolates the slope
+// before the brow into the hollow (up to KrigingOptions::max_distance_m), above where the
+// ground can be: had it been there, the station would have seen it.
+//
+// So a DEM cell that was not seen (no ground point within near_m) and lies beyond the edge of
+// the seen ground (the ground points within edge_m all on one side of it: an angular gap over
+// 180 degrees) is lowered to the horizon when it stands above it by more than tolerance_m. The
+// horizon of a cell is the highest line of sight, from the viewpoint, to a point in front of it
+// (nearer than it, within +-bin_half_width_deg of its azimuth). Only a horizon set by a ground
+// point counts: ground hidden behind a tree continues the ground around it and may rise above
+// the line of sight over the tree's lowest seen part. Cells between seen ground and cells with
+// ground near them are left to kriging.
+//
+// The horizon comes from the points that were matched: where seen ground went unmatched it
+// lies too low, which is why only extrapolated cells are touched. Measured (simulated
+// stations, `process` of 12 pairs; RMSE before / after): hills 0.176 / 0.166 m, and at other
+// seeds 0.398 / 0.350 and 0.218 / 0.203 m; slope 0.055 / 0.054 m; forest 0.228 / 0.228 m
+// (seeds 2-4: 0.623 / 0.614, 0.421 / 0.420, 0.148 / 0.150 m); flat unchanged.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct HorizonLimitOptions {
+  bool enabled = true;
+  double near_m = 1.0;              // a ground point this close: the cell was seen
+  double edge_m = 8.0;              // the ground this close decides "beyond the edge"
+  double bin_half_width_deg = 1.0;  // the lines of sight that make a cell's horizon
+  double tolerance_m = 0.2;         // above the horizon by more than this: lowered
+  bool Check(std::string* why) const;
+};
+
+struct HorizonLimitResult {
+  int cells_lowered = 0;
+  double mean_lowering_m = 0.0;
+};
+
+// points: the points seen from `viewpoint` (blunders left out), in the DEM's frame; ground: one
+// flag per point (1 = ground). Lowers cells of `dem` (nodata cells are left alone).
+HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
+                                  const std::vector<uint8_t>& ground,
+                                  const Eigen::Vector3d& viewpoint,
+                                  const HorizonLimitOptions& options, Raster* dem);
+
+}  // namespace ts
