@@ -254,9 +254,8 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   float* g = f + stride;
   float* wx = g + stride;
   float* wy = wx + stride;
-  const float* grad[B];
-  float* grad_out[B];
-  for (int a = 0; a < B; ++a) grad[a] = grad_out[a] = wy + (a + 1) * stride;
+  float* grad[B];
+  for (int a = 0; a < B; ++a) grad[a] = wy + (a + 1) * stride;
   if (coordinates_for != (hx << 16 | hy)) {
     coordinates_for = hx << 16 | hy;
     std::fill(wx, wx + 2 * stride, 0.0f);
@@ -268,10 +267,10 @@ LsmResult Solve(const cv::Mat& templ, const ImageGradients& tg, const cv::Point&
   for (int y = -hy, k = 0; y <= hy; ++y, k += w) {
     CopyRow(templ.ptr<float>(centre.y + y) + centre.x - hx, w, f + k);
     for (int a = 0; a < B; ++a)
-      CopyRow(sources[a]->ptr<float>(centre.y + y) + centre.x - hx, w, grad_out[a] + k);
+      CopyRow(sources[a]->ptr<float>(centre.y + y) + centre.x - hx, w, grad[a] + k);
   }
   std::fill(f + n, f + padded, 0.0f);
-  for (int a = 0; a < B; ++a) std::fill(grad_out[a] + n, grad_out[a] + padded, 0.0f);
+  for (int a = 0; a < B; ++a) std::fill(grad[a] + n, grad[a] + padded, 0.0f);
   using MapVector = Eigen::Map<Eigen::VectorXf>;
   MapVector fv(f, n);
   const double mean_f = static_cast<double>(fv.sum()) / n;

@@ -33,12 +33,12 @@ bool ProcessOptions::Check(std::string* why) const {
     err = "sight-line objects: " + err;
   else if (!ground.Check(&err))
     err = "ground filter: " + err;
-  else if (!horizon.Check(&err))
-    err = "horizon: " + err;
   else if (!underside_patches.Check(&err))
     err = "underside patches: " + err;
   else if (!kriging.Check(&err))
     err = "kriging: " + err;
+  else if (!horizon.Check(&err))
+    err = "horizon: " + err;
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
