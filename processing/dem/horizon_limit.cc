@@ -17,6 +17,10 @@ bool HorizonLimitOptions::Check(std::string* why) const {
     err = "bin_half_width_deg must be in (0, 10]";
   else if (!(tolerance_m >= 0.0))
     err = "tolerance_m must not be negative";
+  else if (!(object_shadow_reach_m >= 0.0 && object_shadow_reach_m <= 50.0))
+    err = "object_shadow_reach_m must be in [0, 50]";
+  else if (!(min_object_height_m > 0.0))
+    err = "min_object_height_m must be positive";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -32,11 +36,14 @@ int BinOf(double azimuth) {
   return ((b % kBins) + kBins) % kBins;
 }
 
+// What set a line of sight.
+enum class Setter : uint8_t { kOther, kGround, kObject };
+
 // The lines of sight from the viewpoint by azimuth bin, each bin by distance with the highest
-// line so far (as rise over run) and whether a ground point set it.
+// line so far (as rise over run) and what set it.
 class Horizons {
  public:
-  Horizons(const std::vector<Eigen::Vector3d>& points, const std::vector<uint8_t>& ground,
+  Horizons(const std::vector<Eigen::Vector3d>& points, const std::vector<Setter>& setter,
            const Eigen::Vector3d& viewpoint)
       : bins_(kBins) {
     for (size_t i = 0; i < points.size(); ++i) {
@@ -44,20 +51,20 @@ class Horizons {
       const double run = std::hypot(d.x(), d.y());
       if (!(run > 0.5)) continue;
       bins_[BinOf(std::atan2(d.y(), d.x()))].push_back(
-          {static_cast<float>(run), static_cast<float>(d.z() / run), ground[i] != 0});
+          {static_cast<float>(run), static_cast<float>(d.z() / run), setter[i]});
     }
     for (std::vector<Sight>& bin : bins_) {
       std::sort(bin.begin(), bin.end(),
                 [](const Sight& a, const Sight& b) { return a.distance < b.distance; });
       for (size_t k = 1; k < bin.size(); ++k)
         if (bin[k - 1].slope >= bin[k].slope)
-          bin[k].slope = bin[k - 1].slope, bin[k].ground = bin[k - 1].ground;
+          bin[k].slope = bin[k - 1].slope, bin[k].setter = bin[k - 1].setter;
     }
   }
 
   // The highest line of sight to a point nearer than `distance`, within +-half bins of the
   // azimuth; false when there is none.
-  bool Highest(double azimuth, double distance, int half, double* slope, bool* ground) const {
+  bool Highest(double azimuth, double distance, int half, double* slope, Setter* setter) const {
     const int centre = BinOf(azimuth);
     bool found = false;
     for (int k = -half; k <= half; ++k) {
@@ -66,7 +73,7 @@ class Horizons {
                                           [](const Sight& s, double d) { return s.distance < d; });
       if (after == bin.begin()) continue;
       const Sight& nearer = *(after - 1);
-      if (!found || nearer.slope > *slope) *slope = nearer.slope, *ground = nearer.ground;
+      if (!found || nearer.slope > *slope) *slope = nearer.slope, *setter = nearer.setter;
       found = true;
     }
     return found;
@@ -76,21 +83,44 @@ class Horizons {
   struct Sight {
     float distance;
     float slope;  // highest so far, from here
-    bool ground;
+    Setter setter;
   };
   std::vector<std::vector<Sight>> bins_;
 };
+
+// Ground points set ground horizons; other points object horizons when they stand
+// min_object_height_m or more above the DEM.
+std::vector<Setter> SettersOf(const std::vector<Eigen::Vector3d>& points,
+                              const std::vector<uint8_t>& ground, const Raster& dem,
+                              double min_object_height_m) {
+  std::vector<Setter> setter(points.size(), Setter::kOther);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (ground[i]) {
+      setter[i] = Setter::kGround;
+      continue;
+    }
+    const int col = static_cast<int>(std::floor((points[i].x() - dem.min_x_m) / dem.cell_m));
+    const int row = static_cast<int>(std::floor((dem.max_y_m - points[i].y()) / dem.cell_m));
+    if (col < 0 || row < 0 || col >= dem.cols || row >= dem.rows) continue;
+    const float z = dem.at(row, col);
+    if (!Raster::IsNoData(z) && points[i].z() - z >= min_object_height_m)
+      setter[i] = Setter::kObject;
+  }
+  return setter;
+}
 
 }  // namespace
 
 HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
                                   const std::vector<uint8_t>& ground,
                                   const Eigen::Vector3d& viewpoint, const HorizonLimitOptions& o,
-                                  Raster* dem) {
+                                  Raster* dem, Raster* std, double data_reach_m) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("HorizonLimitOptions: " + why);
   if (ground.size() != points.size())
     throw std::invalid_argument("LimitToHorizon: one ground flag per point");
+  if (std && (std->rows != dem->rows || std->cols != dem->cols))
+    throw std::invalid_argument("LimitToHorizon: the std grid differs from the DEM's");
   HorizonLimitResult result;
   if (!o.enabled) return result;
   std::vector<Eigen::Vector3d> ground_points;
@@ -98,9 +128,13 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
     if (ground[i]) ground_points.push_back(points[i]);
   if (ground_points.empty()) return result;
   const GridIndex grid(ground_points, 1.0);
-  const Horizons horizons(points, ground, viewpoint);
+  const Horizons horizons(points, SettersOf(points, ground, *dem, o.min_object_height_m),
+                          viewpoint);
   const int half = static_cast<int>(std::ceil(o.bin_half_width_deg * M_PI / 180.0 / kBinRad));
-  const int reach = static_cast<int>(std::ceil(o.edge_m));
+  const bool beyond_possible = std::isfinite(data_reach_m);
+  const double shadow_reach = std::max(data_reach_m, o.object_shadow_reach_m);
+  const int reach = static_cast<int>(
+      std::ceil(beyond_possible ? std::max(o.edge_m, shadow_reach + 1.0) : o.edge_m));
   const int near_cells = static_cast<int>(std::ceil(o.near_m));
   double lowered = 0.0;
   for (int row = 0; row < dem->rows; ++row)
@@ -119,24 +153,39 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
             seen = std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y) <= o.near_m;
         }
       if (seen) continue;
+      // The nearest ground point (when it may lie beyond data_reach_m) and the directions to
+      // the ground within edge_m, one per grid cell.
       std::vector<double> directions;
+      double nearest = std::numeric_limits<double>::infinity();
       for (int r = r0 - reach; r <= r0 + reach; ++r)
         for (int c = c0 - reach; c <= c0 + reach; ++c) {
           if (!grid.Inside(c, r) || grid.Count(c, r) == 0) continue;
+          if (beyond_possible)
+            for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
+              nearest = std::min(nearest,
+                                 std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y));
           const Eigen::Vector3d& p = ground_points[*grid.begin(c, r)];
           if (std::hypot(p.x() - x, p.y() - y) <= o.edge_m)
             directions.push_back(std::atan2(p.y() - y, p.x() - x));
         }
-      if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
       const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
       double slope = 0.0;
-      bool by_ground = false;
-      if (!horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope,
-                            &by_ground) ||
-          !by_ground)
-        continue;
+      Setter setter = Setter::kOther;
+      const bool has_horizon =
+          horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
       const double horizon = viewpoint.z() + run * slope;
-      if (z <= horizon + o.tolerance_m) continue;
+      if (nearest > data_reach_m) {
+        if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon) {
+          ++result.cells_in_object_shadows;
+        } else {
+          z = Raster::kNoData;
+          if (std) std->at(row, col) = Raster::kNoData;
+          ++result.cells_unexplained;
+        }
+        continue;
+      }
+      if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
+      if (!has_horizon || setter != Setter::kGround || z <= horizon + o.tolerance_m) continue;
       lowered += z - horizon;
       z = static_cast<float>(horizon);
       ++result.cells_lowered;

@@ -32,7 +32,8 @@ struct KrigingOptions {
   // Nodata where the nearest point is farther. Measured on the simulated hills (holes behind
   // brows), universal kriging, 20 cm point spacing: 5 / 5.5 / 6 m give RMSE 0.174 / 0.180 /
   // 0.198 m at coverage within 30 m of 95.1 / 95.2-95.6 / 96.2 %; the kriging std of each cell
-  // says how far it reached.
+  // says how far it reached. (`process` reaches farther in the shadows of objects:
+  // HorizonLimitOptions::object_shadow_reach_m.)
   double max_distance_m = 5.5;
   double thin_cell_m = 0.25;  // 0: no thinning
   // Universal kriging with a local linear drift (x, y in the unbiasedness constraints) instead

@@ -199,9 +199,14 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   }
   Raster grid = Raster::Make(min_x, max_y, o.dem_cell_m, cells, cells);
   grid.crs_wkt = crs_wkt;
-  KrigingResult kriged = KrigeDem(ground_points, grid, o.kriging);
+  // Kriging reaches as far as object shadows may; LimitToHorizon takes back what no object hid.
+  KrigingOptions kriging = o.kriging;
+  if (o.horizon.enabled)
+    kriging.max_distance_m = std::max(kriging.max_distance_m, o.horizon.object_shadow_reach_m);
+  KrigingResult kriged = KrigeDem(ground_points, grid, kriging);
   kriged.dem.crs_wkt = kriged.std.crs_wkt = crs_wkt;
-  // Extrapolated past a brow, no higher than the horizon (every point seen, ground or not).
+  // Extrapolated past a brow, no higher than the horizon; beyond kriging's reach only in an
+  // object's shadow (every point seen, ground or not).
   std::vector<Eigen::Vector3d> seen_points = kept;
   std::vector<uint8_t> seen_ground(kept.size(), 0);
   for (size_t i = 0; i < kept.size(); ++i) seen_ground[i] = class_of[kept_index[i]] == kGround;
@@ -213,7 +218,8 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
     viewpoint = georeference->ToWorld(viewpoint);
   }
   const HorizonLimitResult horizon =
-      LimitToHorizon(seen_points, seen_ground, viewpoint, o.horizon, &kriged.dem);
+      LimitToHorizon(seen_points, seen_ground, viewpoint, o.horizon, &kriged.dem, &kriged.std,
+                     o.kriging.max_distance_m);
   const double coverage_30m = DemCoverage(kriged.dem, station_xy, 30.0);
   const double coverage_square = DemCoverage(kriged.dem, station_xy, 0.0);
   if (coverage_30m < 0.95)
@@ -291,6 +297,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"on_faces", seen.face_count},
                       {"underside_patches", underside.underside_patches},
                       {"cells_lowered_to_horizon", horizon.cells_lowered},
+                      {"cells_in_object_shadows", horizon.cells_in_object_shadows},
                       {"ground", ground_points.positions.size()},
                       {"kriging_points", kriged.points_used}};
   nlohmann::json per_pair = nlohmann::json::array();

@@ -2,7 +2,8 @@
 // `process`: a captured station directory to its products (DESIGN.md "Processing pipeline"):
 //   load + check the raw pairs -> matching and intersection into L (all pairs) -> median-
 //   height blunder filter -> objects along the lines of sight -> ground filter -> kriging at 1 m
-//   over the square around the station (optionally georeferenced with GCPs) -> products/:
+//   over the square around the station (optionally georeferenced with GCPs) -> cells nobody saw
+//   bounded by what hid them (horizon_limit.h) -> products/:
 //   points.ply, dem.tif, dem_std.tif, dem.png, panorama.png, terrain_correction.json,
 //   report.json.
 // Every product is written atomically; report.json is written last.

@@ -1,12 +1,15 @@
 // LimitToHorizon against a brow of known geometry: a viewpoint 1.5 m up sees ground rising at
 // 10 % out to a brow 10 m away (1.0 m high); the line of sight over the brow falls at 5 %, so
 // hidden ground at distance d lies below 1.5 - 0.05 d. The DEM given carries the rise on
-// (0.1 d), as kriging's drift would.
+// (0.1 d), as kriging's drift would. The object shadows: level ground seen out to 10 m and a bush
+// 1 m high just beyond it, whose top's line of sight falls at 5 %: the ground behind it, up to
+// 1.5 - 0.05 d, is hidden by the bush.
 #include "processing/dem/horizon_limit.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 namespace ts {
 namespace {
@@ -14,7 +17,8 @@ namespace {
 struct Scene {
   std::vector<Eigen::Vector3d> points;
   std::vector<uint8_t> ground;
-  void Ring(double from_m, double to_m, bool is_ground, double (*height)(double)) {
+  void Ring(double from_m, double to_m, bool is_ground,
+            const std::function<double(double)>& height) {
     for (double az = -30.0; az <= 30.0; az += 0.25)
       for (double d = from_m; d <= to_m + 1e-9; d += 0.25) {
         const double a = az * M_PI / 180.0;
@@ -81,6 +85,96 @@ TEST(HorizonLimit, LeavesGroundBetweenSeenGroundAndBehindObjects) {
   EXPECT_EQ(dem.values, Extrapolated().values);
 }
 
+double Level(double) { return 0.0; }
+
+// Level ground seen from 2 to 10 m and, unless bush_height_m is 0, a bush from 10 to 10.5 m.
+Scene BushBehindLevelGround(double bush_height_m) {
+  Scene s;
+  s.Ring(2.0, 10.0, true, Level);
+  if (bush_height_m > 0.0) s.Ring(10.25, 10.5, false, [&](double) { return bush_height_m; });
+  return s;
+}
+
+// x 0..20 m, y -5..5 m: the level ground carried on (kriging's reach), beyond 12 m at
+// height_m; std 0.1 + 0.05 d.
+void LevelDem(double height_m, Raster* dem, Raster* std) {
+  *dem = Raster::Make(0.0, 5.0, 1.0, 20, 10);
+  *std = *dem;
+  for (int r = 0; r < dem->rows; ++r)
+    for (int c = 0; c < dem->cols; ++c) {
+      const double d = std::hypot(dem->CellCentreX(c), dem->CellCentreY(r));
+      dem->at(r, c) = static_cast<float>(d <= 12.0 ? 0.0 : height_m);
+      std->at(r, c) = static_cast<float>(0.1 + 0.05 * d);
+    }
+}
+
+// Distance of a cell centre from the seen ground (the ring 2-10 m, within +-30 degrees).
+double FromSeenGround(double x, double y) { return std::max(0.0, std::hypot(x, y) - 10.0); }
+
+TEST(HorizonLimit, KeepsGroundInAnObjectsShadowUpToItsReach) {
+  const Scene s = BushBehindLevelGround(1.0);
+  Raster dem, std;
+  LevelDem(0.0, &dem, &std);
+  const Raster given = dem;
+  HorizonLimitOptions o;  // reach 7 m behind objects
+  const double data_reach = 5.5;
+  const HorizonLimitResult result =
+      LimitToHorizon(s.points, s.ground, kViewpoint, o, &dem, &std, data_reach);
+  int kept = 0, dropped = 0;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double gap = FromSeenGround(dem.CellCentreX(c), dem.CellCentreY(r));
+      if (gap <= data_reach - 0.3 || (gap > data_reach + 0.3 && gap <= 6.7)) {
+        EXPECT_EQ(dem.at(r, c), given.at(r, c)) << "at " << gap << " m from ground";
+        EXPECT_FALSE(Raster::IsNoData(std.at(r, c)));
+        kept += gap > data_reach + 0.3;
+      } else if (gap > 7.3) {
+        EXPECT_TRUE(Raster::IsNoData(dem.at(r, c))) << "beyond the shadow's reach, " << gap;
+        EXPECT_TRUE(Raster::IsNoData(std.at(r, c)));
+        ++dropped;
+      }
+    }
+  EXPECT_GT(kept, 5);
+  EXPECT_GT(dropped, 5);
+  EXPECT_GE(result.cells_in_object_shadows, kept);
+  EXPECT_GE(result.cells_unexplained, dropped);
+  EXPECT_EQ(result.cells_lowered, 0);  // the bush, not the ground, sets the horizon
+}
+
+TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
+  const double data_reach = 5.5;
+  auto far_cells_kept = [&](const Scene& s, double height_behind_m) {
+    Raster dem, std;
+    LevelDem(height_behind_m, &dem, &std);
+    LimitToHorizon(s.points, s.ground, kViewpoint, {}, &dem, &std, data_reach);
+    int kept = 0;
+    for (int r = 0; r < dem.rows; ++r)
+      for (int c = 0; c < dem.cols; ++c) {
+        const bool far = FromSeenGround(dem.CellCentreX(c), dem.CellCentreY(r)) > data_reach + 0.3;
+        if (!far) continue;
+        EXPECT_EQ(Raster::IsNoData(dem.at(r, c)), Raster::IsNoData(std.at(r, c)));
+        kept += !Raster::IsNoData(dem.at(r, c));
+      }
+    return kept;
+  };
+  EXPECT_GT(far_cells_kept(BushBehindLevelGround(1.0), 0.0), 5);  // as above
+  // Nothing stands there: the ground just was not seen.
+  EXPECT_EQ(far_cells_kept(BushBehindLevelGround(0.0), 0.0), 0);
+  // Too low to be an object: terrain the ground filter left out.
+  EXPECT_EQ(far_cells_kept(BushBehindLevelGround(0.3), 0.0), 0);
+  // Ground behind the bush standing above its line of sight would have been seen.
+  EXPECT_EQ(far_cells_kept(BushBehindLevelGround(1.0), 1.2), 0);
+  // Switched off: no cell beyond kriging's reach.
+  HorizonLimitOptions none;
+  none.object_shadow_reach_m = 0.0;
+  const Scene bush = BushBehindLevelGround(1.0);
+  Raster dem, std;
+  LevelDem(0.0, &dem, &std);
+  EXPECT_EQ(LimitToHorizon(bush.points, bush.ground, kViewpoint, none, &dem, &std, data_reach)
+                .cells_in_object_shadows,
+            0);
+}
+
 TEST(HorizonLimit, RejectsBadInput) {
   Raster dem = Extrapolated();
   HorizonLimitOptions bad;
@@ -90,6 +184,16 @@ TEST(HorizonLimit, RejectsBadInput) {
   EXPECT_NE(why.find("edge_m"), std::string::npos);
   EXPECT_THROW(LimitToHorizon({}, {}, kViewpoint, bad, &dem), std::invalid_argument);
   EXPECT_THROW(LimitToHorizon({{1, 0, 0}}, {}, kViewpoint, {}, &dem), std::invalid_argument);
+  Raster other_grid = Raster::Make(0.0, 5.0, 1.0, 10, 10);
+  EXPECT_THROW(LimitToHorizon({}, {}, kViewpoint, {}, &dem, &other_grid), std::invalid_argument);
+  HorizonLimitOptions bad_reach;
+  bad_reach.object_shadow_reach_m = -1.0;
+  EXPECT_FALSE(bad_reach.Check(&why));
+  EXPECT_NE(why.find("object_shadow_reach_m"), std::string::npos);
+  HorizonLimitOptions bad_height;
+  bad_height.min_object_height_m = 0.0;
+  EXPECT_FALSE(bad_height.Check(&why));
+  EXPECT_NE(why.find("min_object_height_m"), std::string::npos);
 }
 
 }  // namespace
