@@ -130,6 +130,9 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
   const GridIndex grid(ground_points, 1.0);
   const Horizons horizons(points, SettersOf(points, ground, *dem, o.min_object_height_m),
                           viewpoint);
+  // The terrain's own horizons, for cells behind an object that a brow hides as well.
+  const Horizons ground_horizons(
+      ground_points, std::vector<Setter>(ground_points.size(), Setter::kGround), viewpoint);
   const int half = static_cast<int>(std::ceil(o.bin_half_width_deg * M_PI / 180.0 / kBinRad));
   const bool beyond_possible = std::isfinite(data_reach_m);
   const double shadow_reach = std::max(data_reach_m, o.object_shadow_reach_m);
@@ -175,7 +178,14 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
           horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
       const double horizon = viewpoint.z() + run * slope;
       if (nearest > data_reach_m) {
-        if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon) {
+        double ground_slope = 0.0;
+        Setter ground_setter = Setter::kGround;
+        const bool below_terrain_horizon =
+            ground_horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half,
+                                    &ground_slope, &ground_setter) &&
+            z < viewpoint.z() + run * ground_slope - o.tolerance_m;
+        if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon &&
+            !below_terrain_horizon) {
           ++result.cells_in_object_shadows;
         } else {
           z = Raster::kNoData;

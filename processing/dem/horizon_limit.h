@@ -20,9 +20,10 @@
 // beneath and behind it, at the level of the ground around it, so kriging may reach farther
 // there (object_shadow_reach_m) than where nothing explains the gap (data_reach_m, kriging's own
 // reach). A cell farther than data_reach_m from any ground point keeps its kriged height only
-// when it lies within object_shadow_reach_m of ground and its horizon is set by an object point
-// (one standing min_object_height_m or more above the DEM) and passes above the cell; every
-// other such cell becomes nodata. Its kriging standard deviation says how far it reached.
+// when it lies within object_shadow_reach_m of ground, its horizon is set by an object point
+// (one standing min_object_height_m or more above the DEM) and passes above the cell, and the
+// ground's own horizon does not (by more than tolerance_m): the object alone hid it. Every other
+// such cell becomes nodata. Its kriging standard deviation says how far it reached.
 //
 // The horizon comes from the points that were matched: where seen ground went unmatched it
 // lies too low, which is why only extrapolated cells are lowered. Measured (simulated

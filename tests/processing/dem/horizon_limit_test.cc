@@ -164,6 +164,20 @@ TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
   EXPECT_EQ(far_cells_kept(BushBehindLevelGround(0.3), 0.0), 0);
   // Ground behind the bush standing above its line of sight would have been seen.
   EXPECT_EQ(far_cells_kept(BushBehindLevelGround(1.0), 1.2), 0);
+  // A bush on a brow, over a hollow that the brow hides as well: the hollow is not the bush's.
+  Scene brow_bush;
+  brow_bush.Ring(2.0, 10.0, true, Rise);
+  brow_bush.Ring(10.25, 10.5, false, [](double) { return 2.0; });
+  Raster hollow = Extrapolated(), hollow_std = Extrapolated();
+  for (int r = 0; r < hollow.rows; ++r)
+    for (int c = 0; c < hollow.cols; ++c) {
+      const double d = std::hypot(hollow.CellCentreX(c), hollow.CellCentreY(r));
+      if (d > 12.0) hollow.at(r, c) = static_cast<float>(1.5 - 0.05 * d - 0.5);
+    }
+  const HorizonLimitResult behind_brow = LimitToHorizon(
+      brow_bush.points, brow_bush.ground, kViewpoint, {}, &hollow, &hollow_std, data_reach);
+  EXPECT_EQ(behind_brow.cells_in_object_shadows, 0);
+  EXPECT_GT(behind_brow.cells_unexplained, 5);
   // Switched off: no cell beyond kriging's reach.
   HorizonLimitOptions none;
   none.object_shadow_reach_m = 0.0;
