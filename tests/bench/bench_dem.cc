@@ -140,16 +140,21 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();
   const DemEvaluation e = EvaluateDem(r.dem, truth, mark, &r.dem_std);
 
-  // Nearest neighbour (kriging with one neighbour) on the same thinned ground points.
+  // Nearest neighbour (kriging with one neighbour) on the same thinned ground points, in the
+  // same cells (the kriged DEM reaches farther in the shadows of objects).
   KrigingPoints ground;
   for (size_t i = 0; i < r.cloud.size(); ++i)
     if (r.point_class[i] == kGround) ground.positions.push_back(r.cloud[i].position_m);
   KrigingOptions nearest_options = process.kriging;
   nearest_options.neighbours = 1;
   nearest_options.extrapolation_neighbours = 0;
+  nearest_options.max_distance_m =
+      std::max(nearest_options.max_distance_m, process.horizon.object_shadow_reach_m);
   Raster nearest = r.dem, unused;
   KrigeOnto(ThinPoints(ground, process.kriging.thin_cell_m), VariogramModel{}, nearest_options,
             &nearest, &unused);
+  for (size_t i = 0; i < nearest.values.size(); ++i)
+    if (Raster::IsNoData(r.dem.values[i])) nearest.values[i] = Raster::kNoData;
   const DemEvaluation n = EvaluateDem(nearest, truth, mark);
 
   const std::string s = std::string(t.scene) + ": ";
