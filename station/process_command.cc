@@ -143,6 +143,8 @@ void AddProcessCommands(CLI::App& app) {
                 "the DEM square's half side (default 30)");
   p->add_option("--max-distance-m", process->options.kriging.max_distance_m,
                 "nodata where the nearest ground point is farther (default 5.5)");
+  p->add_option("--object-shadow-reach-m", process->options.horizon.object_shadow_reach_m,
+                "the same, in the shadow of a tree or bush (default 7; 0: as elsewhere)");
   p->add_flag("--json", process->json, "print the report as JSON");
   p->callback([process] {
     const nlohmann::json r = ProcessOrThrow(process->station, process->options,

@@ -33,6 +33,8 @@ TEST(ProcessCommand, BadInputGivesOneClearError) {
   EXPECT_NE(error_of(s + " --gcps " + (dir / "gcps.yaml")).find("gcps.yaml: points"),
             std::string::npos);
   EXPECT_NE(error_of(dir / "nowhere").find("nowhere"), std::string::npos);
+  EXPECT_NE(error_of(s + " --object-shadow-reach-m=-1").find("object_shadow_reach_m"),
+            std::string::npos);
   std::ofstream(s + "/raw/pair_01_right.png", std::ios::app) << "garbage";
   EXPECT_NE(error_of(s).find("pair_01_right.png"), std::string::npos);
 }
