@@ -20,6 +20,10 @@ bool UndersidePatchOptions::Check(std::string* why) const {
     err = "min_points must be at least 3 (a plane)";
   else if (!(slope_margin >= 0.0))
     err = "slope_margin must not be negative";
+  else if (!(object_ratio >= 0.0))
+    err = "object_ratio must not be negative";
+  else if (object_ring_cells < 0 || object_ring_cells > 20)
+    err = "object_ring_cells must be in [0, 20]";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
@@ -60,6 +64,25 @@ UndersidePatches FindUndersidePatches(const std::vector<Eigen::Vector3d>& points
     for (int c = 0; c < grid.cols(); ++c)
       if (occupied.at<uint8_t>(r, c)) cells[labels.at<int>(r, c)].emplace_back(c, r);
 
+  // Object points (the others) per cell of the same grid, for the patches among objects.
+  cv::Mat objects(grid.rows(), grid.cols(), CV_32SC1, cv::Scalar(0));
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (ground[i] || !points[i].allFinite()) continue;
+    const int c = grid.ColOf(points[i].x()), r = grid.RowOf(points[i].y());
+    if (grid.Inside(c, r)) ++objects.at<int>(r, c);
+  }
+  auto objects_around = [&](const std::vector<cv::Point>& patch) {
+    cv::Mat mask(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
+    for (const cv::Point& p : patch) mask.at<uint8_t>(p) = 255;
+    const int k = 2 * o.object_ring_cells + 1;
+    cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+    long n = 0;
+    for (int r = 0; r < grid.rows(); ++r)
+      for (int c = 0; c < grid.cols(); ++c)
+        if (mask.at<uint8_t>(r, c)) n += objects.at<int>(r, c);
+    return n;
+  };
+
   const double cell_area = o.cell_m * o.cell_m;
   for (int label = 1; label < count; ++label) {  // 0: the background
     if (cells[label].size() * cell_area >= o.max_area_m2) continue;
@@ -70,6 +93,12 @@ UndersidePatches FindUndersidePatches(const std::vector<Eigen::Vector3d>& points
       for (const int* i = grid.begin(p.x, p.y); i != grid.end(p.x, p.y); ++i)
         members.push_back(*i), mean += ground_points[*i];
     if (static_cast<int>(members.size()) < o.min_points) continue;
+    if (o.object_ratio > 0.0 &&
+        objects_around(cells[label]) >= o.object_ratio * static_cast<double>(members.size())) {
+      ++result.among_objects;
+      for (const int i : members) result.underside[ground_index[i]] = 1;
+      continue;
+    }
     mean /= static_cast<double>(members.size());
     // z = a + b x + c y about the patch's mean point.
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();

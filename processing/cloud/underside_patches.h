@@ -14,6 +14,20 @@
 // the line of sight's by more than slope_margin (the matching noise lies along the lines of
 // sight, so it draws the fitted slope towards the line of sight's, never across it).
 // Larger patches are never flagged: they are the ground the DEM is made of.
+//
+// A small patch among objects is canopy too, whichever way it faces. Behind a grove on ground
+// falling away from the station, the lower front of a canopy stands below the cameras and is
+// seen from above, like ground; the ground filter has no ground behind it to compare it with.
+// Such islands, 5-15 m beyond the last ground seen, anchored kriging over hundreds of square
+// metres (simulated forest, seed 3: the DEM 1-2 m high over 300 m2). So a small patch with at
+// least object_ratio object points (the points not flagged ground) per ground point, in its
+// cells and object_ring_cells around them, is flagged as well. Real ground seen through a gap
+// in a grove looks the same and is lost with it; the DEM reaches it from the ground around.
+// Measured (`process` of 12 pairs; RMSE / coverage within 30 m, off / on): forest 0.253 /
+// 97.2 % -> 0.227 / 96.6 %; its survey capture 0.253 / 95.8 % -> 0.249 / 95.8 %; forest seeds 2,
+// 3, 4 0.616 -> 0.603, 0.562 -> 0.493, 0.161 -> 0.140 m; hills (seeds 1-3) and rough
+// unchanged. Ratio 0.5 / 1 / 2: seed 3 0.477 / 0.493 / 0.493 m, forest 0.227 / 0.227 /
+// 0.241 m. Patches of fewer than min_points too: the survey capture falls to 94.6 %.
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -27,12 +41,17 @@ struct UndersidePatchOptions {
   double max_area_m2 = 15.0;
   int min_points = 10;
   double slope_margin = 0.05;  // rise over run
+  // A small patch with at least object_ratio object points per ground point in its cells and
+  // object_ring_cells around them is canopy, whichever way it faces (0: off).
+  double object_ratio = 1.0;
+  int object_ring_cells = 2;
   bool Check(std::string* why) const;
 };
 
 struct UndersidePatches {
   std::vector<uint8_t> underside;  // one flag per point, 1 = in a patch seen from below
   int small_patches = 0, underside_patches = 0;
+  int among_objects = 0;  // small patches flagged for the objects around them
 };
 
 // ground: one flag per point (1 = ground); only ground points are looked at. viewpoint: where

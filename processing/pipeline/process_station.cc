@@ -296,6 +296,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
                       {"floating", seen.floating_count},
                       {"on_faces", seen.face_count},
                       {"underside_patches", underside.underside_patches},
+                      {"patches_among_objects", underside.among_objects},
                       {"cells_lowered_to_horizon", horizon.cells_lowered},
                       {"cells_in_object_shadows", horizon.cells_in_object_shadows},
                       {"ground", ground_points.positions.size()},

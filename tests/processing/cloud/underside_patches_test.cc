@@ -86,6 +86,35 @@ TEST(UndersidePatches, LooksOnlyAtGroundAndNeedsEnoughPoints) {
   EXPECT_EQ(found.underside_patches, 0);
 }
 
+TEST(UndersidePatches, FlagsSmallPatchesAmongObjectsWhicheverWayTheyFace) {
+  Scene s;
+  s.Add(0, 5, 20, -10, 10, [](double) { return 0.0; });  // the ground around the station
+  // Three small level patches 30 m out, seen from above like ground (64 points each):
+  s.Add(1, 30, 32, 6, 8, [](double) { return 0.0; });    // amid canopy
+  s.Add(2, 30, 32, -8, -6, [](double) { return 0.0; });  // alone
+  s.Add(3, 30, 32, 14, 16, [](double) { return 0.0; });  // a bush beside it, a few points
+  // Canopy 2 m up all around patch 1 (192 points) and a strip beside patch 3 (32 points).
+  s.Add(4, 29, 33, 5, 6, [](double) { return 2.0; });
+  s.Add(4, 29, 33, 8, 9, [](double) { return 2.0; });
+  s.Add(4, 29, 30, 6, 8, [](double) { return 2.0; });
+  s.Add(4, 32, 33, 6, 8, [](double) { return 2.0; });
+  s.Add(5, 32, 33, 14, 16, [](double) { return 0.8; });
+  std::vector<uint8_t> ground(s.points.size());
+  for (size_t i = 0; i < s.points.size(); ++i) ground[i] = s.patch[i] <= 3;
+  const UndersidePatches found = FindUndersidePatches(s.points, ground, kViewpoint);
+  for (size_t i = 0; i < s.points.size(); ++i)
+    EXPECT_EQ(found.underside[i], s.patch[i] == 1) << "surface " << s.patch[i];
+  EXPECT_EQ(found.among_objects, 1);
+  EXPECT_EQ(found.underside_patches, 0);  // none is seen from below
+  // Switched off, or asking for more canopy than there is: kept.
+  UndersidePatchOptions off;
+  off.object_ratio = 0.0;
+  EXPECT_EQ(FindUndersidePatches(s.points, ground, kViewpoint, off).among_objects, 0);
+  UndersidePatchOptions more;
+  more.object_ratio = 4.0;  // patch 1 has 3 canopy points per ground point
+  EXPECT_EQ(FindUndersidePatches(s.points, ground, kViewpoint, more).among_objects, 0);
+}
+
 TEST(UndersidePatches, RejectsBadInput) {
   UndersidePatchOptions o;
   o.min_points = 2;
@@ -93,6 +122,14 @@ TEST(UndersidePatches, RejectsBadInput) {
   EXPECT_FALSE(o.Check(&why));
   EXPECT_NE(why.find("min_points"), std::string::npos);
   EXPECT_THROW(FindUndersidePatches({}, {}, kViewpoint, o), std::invalid_argument);
+  UndersidePatchOptions ratio;
+  ratio.object_ratio = -1.0;
+  EXPECT_FALSE(ratio.Check(&why));
+  EXPECT_NE(why.find("object_ratio"), std::string::npos);
+  UndersidePatchOptions ring;
+  ring.object_ring_cells = -1;
+  EXPECT_FALSE(ring.Check(&why));
+  EXPECT_NE(why.find("object_ring_cells"), std::string::npos);
   EXPECT_THROW(FindUndersidePatches({{0, 0, 0}}, {}, kViewpoint), std::invalid_argument);
   EXPECT_TRUE(FindUndersidePatches({}, {}, kViewpoint).underside.empty());
 }
