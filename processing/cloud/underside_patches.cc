@@ -71,15 +71,21 @@ UndersidePatches FindUndersidePatches(const std::vector<Eigen::Vector3d>& points
     const int c = grid.ColOf(points[i].x()), r = grid.RowOf(points[i].y());
     if (grid.Inside(c, r)) ++objects.at<int>(r, c);
   }
+  // Object points in a patch's cells and object_ring_cells around them (within the patch's
+  // bounding box grown by the ring, not the whole grid).
   auto objects_around = [&](const std::vector<cv::Point>& patch) {
-    cv::Mat mask(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
-    for (const cv::Point& p : patch) mask.at<uint8_t>(p) = 255;
-    const int k = 2 * o.object_ring_cells + 1;
+    const int ring = o.object_ring_cells;
+    const cv::Rect box = cv::Rect(cv::boundingRect(patch).tl() - cv::Point(ring, ring),
+                                  cv::boundingRect(patch).br() + cv::Point(ring, ring)) &
+                         cv::Rect(0, 0, grid.cols(), grid.rows());
+    cv::Mat mask(box.size(), CV_8UC1, cv::Scalar(0));
+    for (const cv::Point& p : patch) mask.at<uint8_t>(p - box.tl()) = 255;
+    const int k = 2 * ring + 1;
     cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
     long n = 0;
-    for (int r = 0; r < grid.rows(); ++r)
-      for (int c = 0; c < grid.cols(); ++c)
-        if (mask.at<uint8_t>(r, c)) n += objects.at<int>(r, c);
+    for (int r = 0; r < box.height; ++r)
+      for (int c = 0; c < box.width; ++c)
+        if (mask.at<uint8_t>(r, c)) n += objects.at<int>(r + box.y, c + box.x);
     return n;
   };
 

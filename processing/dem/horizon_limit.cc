@@ -135,7 +135,7 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
       ground_points, std::vector<Setter>(ground_points.size(), Setter::kGround), viewpoint);
   const int half = static_cast<int>(std::ceil(o.bin_half_width_deg * M_PI / 180.0 / kBinRad));
   const bool beyond_possible = std::isfinite(data_reach_m);
-  const double shadow_reach = std::max(data_reach_m, o.object_shadow_reach_m);
+  const double shadow_reach = o.KrigingReach(data_reach_m);
   const int reach = static_cast<int>(
       std::ceil(beyond_possible ? std::max(o.edge_m, shadow_reach + 1.0) : o.edge_m));
   const int near_cells = static_cast<int>(std::ceil(o.near_m));

@@ -31,6 +31,7 @@
 // seeds 0.398 / 0.350 and 0.218 / 0.203 m; slope 0.055 / 0.054 m; forest 0.228 / 0.228 m
 // (seeds 2-4: 0.623 / 0.614, 0.421 / 0.420, 0.148 / 0.150 m); flat unchanged.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -56,6 +57,10 @@ struct HorizonLimitOptions {
   // An object point stands this far above the DEM at least (lower ones are terrain that the
   // ground filter left out, at brows and rough ground).
   double min_object_height_m = 0.5;
+  // How far kriging must reach for this stage, given kriging's own reach (data_reach_m).
+  double KrigingReach(double data_reach_m) const {
+    return enabled ? std::max(data_reach_m, object_shadow_reach_m) : data_reach_m;
+  }
   bool Check(std::string* why) const;
 };
 

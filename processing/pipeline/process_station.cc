@@ -201,8 +201,7 @@ Result<ProcessResult> ProcessStation(const std::string& dir, const ProcessOption
   grid.crs_wkt = crs_wkt;
   // Kriging reaches as far as object shadows may; LimitToHorizon takes back what no object hid.
   KrigingOptions kriging = o.kriging;
-  if (o.horizon.enabled)
-    kriging.max_distance_m = std::max(kriging.max_distance_m, o.horizon.object_shadow_reach_m);
+  kriging.max_distance_m = o.horizon.KrigingReach(o.kriging.max_distance_m);
   KrigingResult kriged = KrigeDem(ground_points, grid, kriging);
   kriged.dem.crs_wkt = kriged.std.crs_wkt = crs_wkt;
   // Extrapolated past a brow, no higher than the horizon; beyond kriging's reach only in an

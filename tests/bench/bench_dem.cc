@@ -148,8 +148,7 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   KrigingOptions nearest_options = process.kriging;
   nearest_options.neighbours = 1;
   nearest_options.extrapolation_neighbours = 0;
-  nearest_options.max_distance_m =
-      std::max(nearest_options.max_distance_m, process.horizon.object_shadow_reach_m);
+  nearest_options.max_distance_m = process.horizon.KrigingReach(process.kriging.max_distance_m);
   Raster nearest = r.dem, unused;
   KrigeOnto(ThinPoints(ground, process.kriging.thin_cell_m), VariogramModel{}, nearest_options,
             &nearest, &unused);
