@@ -271,7 +271,8 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
         !s)
       return Error{s.error()};
     ++summary.captured_now;
-    seq.Emit({CaptureEventKind::kPairCaptured, index, summary.total_pairs, ""});
+    seq.Emit({CaptureEventKind::kPairCaptured, index, summary.total_pairs, "", &m->pairs.back(),
+              &frames->left.image, &frames->right.image});
   }
   for (Camera* c : {&left, &right})
     if (Status s = c->Stop(); !s) return Error{s.error()};

@@ -23,6 +23,7 @@
 #include "devices/camera.h"
 #include "devices/stage.h"
 #include "processing/geometry/capture_plan.h"
+#include "processing/io/station_manifest.h"
 
 namespace ts {
 
@@ -57,6 +58,11 @@ struct CaptureEvent {
   int pair = -1;  // plan index
   int total = 0;
   std::string message;
+  // kPairCaptured: the record just committed and its images (valid during the call only; the
+  // images may be shared, never modified), for an incremental station to match at once.
+  const PairRecord* record = nullptr;
+  const cv::Mat* left_image = nullptr;
+  const cv::Mat* right_image = nullptr;
 };
 
 struct CaptureSummary {

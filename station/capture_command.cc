@@ -11,6 +11,7 @@
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
 #include "station/commands.h"
+#include "station/progress_display.h"
 
 namespace ts {
 namespace {
@@ -57,28 +58,29 @@ void Run(const CaptureArgs& args) {
 }  // namespace
 
 CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& out, bool resume,
-                              const CaptureOptions& options, bool show_progress) {
+                              const CaptureOptions& options, bool show_progress,
+                              const std::function<void(const CaptureEvent&)>& observer) {
   auto stage = OpenModbusStage(rig.stage);
   if (!stage) throw CommandError(stage.error());
   auto left = OpenAravisCamera(rig.left_camera);
   if (!left) throw CommandError(left.error());
   auto right = OpenAravisCamera(rig.right_camera);
   if (!right) throw CommandError(right.error());
-  auto progress = [show_progress](const CaptureEvent& e) {
-    if (!show_progress) return;
-    if (e.kind == CaptureEventKind::kStarted) std::fprintf(stderr, "%s\n", e.message.c_str());
-    if (e.kind == CaptureEventKind::kPairCaptured)
-      std::fprintf(stderr, "\rpair %02d captured (%d pairs in the plan)", e.pair, e.total);
-    if (e.kind == CaptureEventKind::kRetake)
-      std::fprintf(stderr, "\npair %02d retaken: %s\n", e.pair, e.message.c_str());
-    if (e.kind == CaptureEventKind::kUpperPose)
-      std::fprintf(stderr, "\npair %02d: %s\n", e.pair, e.message.c_str());
+  ProgressDisplay display(show_progress);
+  auto progress = [&](const CaptureEvent& e) {
+    const std::string pair = "pair " + std::to_string(e.pair);
+    if (e.kind == CaptureEventKind::kStarted) display.Line("capture: " + e.message);
+    if (e.kind == CaptureEventKind::kMoving || e.kind == CaptureEventKind::kPairCaptured)
+      display.Count("capture: pair", e.pair + (e.kind == CaptureEventKind::kPairCaptured), e.total);
+    if (e.kind == CaptureEventKind::kRetake) display.Line(pair + " retaken: " + e.message);
+    if (e.kind == CaptureEventKind::kUpperPose) display.Line(pair + ": " + e.message);
     if (e.kind == CaptureEventKind::kFrameRetry)
-      std::fprintf(stderr, "\npair %02d triggered again: %s\n", e.pair, e.message.c_str());
-    if (e.kind == CaptureEventKind::kFinished) std::fprintf(stderr, "\n");
+      display.Line(pair + " triggered again: " + e.message);
+    if (observer) observer(e);
   };
   Result<CaptureSummary> s =
       CaptureStation(**stage, **left, **right, rig, out, resume, options, progress);
+  display.Clear();
   if (!s) throw CommandError(s.error());
   return *s;
 }

@@ -2,6 +2,7 @@
 // Each `topostation` subcommand registers itself on the CLI11 app. A command reports failure
 // by throwing CommandError with one clear line; main() prints it and exits non-zero.
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -28,10 +29,18 @@ void AddTerrainCorrectionCommand(CLI::App& app);
 void AddDiffCommand(CLI::App& app);
 
 // Shared by the commands that chain them (survey): each throws CommandError on failure.
+// observer (optional) sees every capture event, e.g. to hand each committed pair to an
+// incremental station.
 CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& station_dir, bool resume,
-                              const CaptureOptions& options, bool show_progress);
-nlohmann::json ProcessOrThrow(const std::string& station_dir, ProcessOptions options,
+                              const CaptureOptions& options, bool show_progress,
+                              const std::function<void(const CaptureEvent&)>& observer = {});
+nlohmann::json ProcessOrThrow(const std::string& station_dir, const ProcessOptions& options,
                               bool show_progress);
+// The products of a station whose pairs went to `processor` as they were committed.
+nlohmann::json FinishOrThrow(StationProcessor* processor);
+class ProgressDisplay;
+// The progress of a process job on the display (nothing when it is disabled).
+ProcessControl ProgressControl(ProgressDisplay* display);
 // products/evaluation.json of a processed station against a truth directory.
 nlohmann::json EvaluateOrThrow(const std::string& station_dir, const std::string& truth_dir);
 // Its two summary lines (DEM errors and coverage; terrain correction against the truth's).

@@ -15,6 +15,7 @@
 #include "processing/io/raster.h"
 #include "station/commands.h"
 #include "station/dem_input.h"
+#include "station/progress_display.h"
 
 namespace ts {
 namespace {
@@ -67,14 +68,29 @@ void RunGroundFilter(const GroundFilterArgs& args) {
 
 }  // namespace
 
-nlohmann::json ProcessOrThrow(const std::string& station, ProcessOptions options,
-                              bool show_progress) {
-  if (show_progress)
-    options.progress = [](const std::string& stage) {
-      std::fprintf(stderr, "\r%-40s", ("processing: " + stage).c_str());
+ProcessControl ProgressControl(ProgressDisplay* display) {
+  ProcessControl control;
+  if (display->enabled())
+    control.progress = [display](const ProcessProgress& p) {
+      if (p.step == "matching" && p.pairs_total > 0)
+        display->Count("process: pair", p.pairs_done, p.pairs_total);
+      else
+        display->Step("process", p.step, p.step_number, p.step_count);
     };
-  Result<ProcessResult> result = ProcessStation(station, options);
-  if (show_progress) std::fprintf(stderr, "\r%-40s\r", "");
+  return control;
+}
+
+nlohmann::json ProcessOrThrow(const std::string& station, const ProcessOptions& options,
+                              bool show_progress) {
+  ProgressDisplay display(show_progress);
+  Result<ProcessResult> result = ProcessStation(station, options, ProgressControl(&display));
+  display.Clear();
+  if (!result) throw CommandError(result.error());
+  return result->report;
+}
+
+nlohmann::json FinishOrThrow(StationProcessor* processor) {
+  Result<ProcessResult> result = processor->Finish();
   if (!result) throw CommandError(result.error());
   return result->report;
 }

@@ -69,14 +69,25 @@ void RunSurvey(const SurveyArgs& args) {
   CaptureOptions capture;
   capture.initial_exposure_us = args.exposure_us;
   capture.plan.upper_poses = !args.single_row;
-  const CaptureSummary captured = CaptureOrThrow(rig, args.out, false, capture, tty);
-  server->reset();
 
   ProcessOptions process;
   // Until the calibration commands exist, the simulator's true calibration stands in for a
   // field calibration (issue 6); --nominal-calibration shows what the design values give.
   if (!args.nominal_calibration) process.calibration_file = truth_dir + "/calibration.yaml";
-  const nlohmann::json report = ProcessOrThrow(args.out, process, tty);
+  // Each pair is matched while the stage moves to the next: the products follow the last pair
+  // by the station-wide steps only.
+  StationProcessor processor(args.out, process);
+  auto last_pair = std::chrono::steady_clock::now();
+  const CaptureSummary captured =
+      CaptureOrThrow(rig, args.out, false, capture, tty, [&](const CaptureEvent& e) {
+        if (e.kind != CaptureEventKind::kPairCaptured) return;
+        processor.AddPair(*e.record, *e.left_image, *e.right_image);
+        last_pair = std::chrono::steady_clock::now();
+      });
+  const nlohmann::json report = FinishOrThrow(&processor);
+  const double after_last_pair_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_pair).count();
+  server->reset();
   const nlohmann::json evaluation = EvaluateOrThrow(args.out, truth_dir);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -85,15 +96,17 @@ void RunSurvey(const SurveyArgs& args) {
                                        {"truth", truth_dir},
                                        {"capture_s", captured.seconds},
                                        {"process_s", report["wall_s"]},
+                                       {"products_after_last_pair_s", after_last_pair_s},
                                        {"survey_s", seconds},
                                        {"evaluation", evaluation}}
                             .dump()
                             .c_str());
     return;
   }
-  std::printf("survey of scene '%s' done in %.0f s (capture %.0f s, processing %.1f s)\n",
-              (*station)->scene.name.c_str(), seconds, captured.seconds,
-              report["wall_s"].get<double>());
+  std::printf(
+      "survey of scene '%s' done in %.0f s (capture %.0f s; products %.1f s after the last "
+      "pair)\n",
+      (*station)->scene.name.c_str(), seconds, captured.seconds, after_last_pair_s);
   std::printf(
       "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
       "terrain_correction.json, report.json); truth: %s\n",

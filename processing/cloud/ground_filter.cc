@@ -10,20 +10,18 @@
 
 namespace ts {
 
+GroundFilterOptions GroundFilterOptions::ForTripod() {
+  GroundFilterOptions g;
+  g.elevation_threshold_m = 0.2;
+  g.elevation_scaler = 0.25;
+  g.slope = 0.08;
+  return g;
+}
+
 bool GroundFilterOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(cell_m > 0.0))
-    err = "cell_m must be positive";
-  else if (!(slope >= 0.0))
-    err = "slope must be >= 0";
-  else if (!(max_window_m >= cell_m))
-    err = "max_window_m must be at least one cell";
-  else if (!(elevation_threshold_m > 0.0))
-    err = "elevation_threshold_m must be positive";
-  else if (!(elevation_scaler >= 0.0))
-    err = "elevation_scaler must be >= 0";
-  else if (!(object_shadow_m >= 0.0) || !(object_shadow_fall >= 0.0))
-    err = "object_shadow_m and object_shadow_fall must be >= 0";
+  if (!(max_window_m >= cell_m)) err = "max_window_m must be at least one cell";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

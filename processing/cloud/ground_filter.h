@@ -21,6 +21,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -39,7 +40,25 @@ struct GroundFilterOptions {
   // at coverage 89.4 / 90.2 / 88.8 %. Flat, hills and slope alike to the last digit.
   double object_shadow_m = 4.0;
   double object_shadow_fall = 0.3;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("cell_m", self.cell_m, {"grid cell", "m", 0.05, 20});
+    v("slope", self.slope, {"steepest terrain slope kept (rise over run)", "", 0, 10});
+    v("max_window_m", self.max_window_m,
+      {"largest opening radius, wider than any object", "m", 0.05, 100});
+    v("elevation_threshold_m", self.elevation_threshold_m,
+      {"height above the ground surface still ground", "m", 0.001, 20});
+    v("elevation_scaler", self.elevation_scaler,
+      {"threshold growth with the local slope", "", 0, 10});
+    v("object_shadow_m", self.object_shadow_m,
+      {"hidden cells this near a known object are filled falling away", "m", 0, 50});
+    v("object_shadow_fall", self.object_shadow_fall,
+      {"how fast they fall away (rise over run)", "", 0, 10});
+  }
   bool Check(std::string* why) const;
+  // For a tripod's cloud: a tighter band around the ground and a smaller slope allowance than
+  // the airborne defaults above (the near ground is dense and precise; trees stand close).
+  static GroundFilterOptions ForTripod();
 };
 
 struct GroundFilterResult {

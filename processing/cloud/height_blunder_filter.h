@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -27,6 +28,18 @@ struct HeightBlunderOptions {
   // alike to the millimetre.
   int min_layer_points = 3;
   double layer_tolerance_m = 0.3;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("window_m", self.window_m, {"window of the median height", "m", 0.05, 50});
+    v("threshold_m", self.threshold_m, {"|z - median| above this: blunder", "m", 0.001, 50});
+    v("min_neighbours", self.min_neighbours,
+      {"fewer points in the window: kept, not judged", "", 1, 1000});
+    v("max_samples", self.max_samples,
+      {"points of a window the median is taken over, at most", "", 3, 100000});
+    v("min_layer_points", self.min_layer_points,
+      {"a point with more others in its layer is no blunder", "", 0, 1000});
+    v("layer_tolerance_m", self.layer_tolerance_m, {"height band of a layer", "m", 0.001, 10});
+  }
   bool Check(std::string* why) const;
 };
 

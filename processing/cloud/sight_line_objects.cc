@@ -9,20 +9,10 @@
 namespace ts {
 
 bool SightLineOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(azimuth_bin_deg > 0.0 && azimuth_bin_deg <= 5.0) ||
-      !(face_bin_deg > 0.0 && face_bin_deg <= 5.0))
-    err = "azimuth_bin_deg and face_bin_deg must be in (0, 5]";
-  else if (!(min_gap_m >= 0.0) || !(sigma_factor >= 0.0))
-    err = "min_gap_m and sigma_factor must not be negative";
-  else if (min_witnesses < 1 || min_witnesses > 8)
-    err = "min_witnesses must be in [1, 8]";
-  else if (!(face_min_below_deg >= 0.0 && face_max_below_deg > face_min_below_deg))
-    err = "need 0 <= face_min_below_deg < face_max_below_deg";
-  else if (min_face_rays < 1)
-    err = "min_face_rays must be at least 1";
-  else if (!(max_terrain_inclination_deg > 0.0 && max_terrain_inclination_deg < 90.0))
-    err = "max_terrain_inclination_deg must be in (0, 90)";
+  if (!(face_max_below_deg > face_min_below_deg))
+    err = "need face_min_below_deg < face_max_below_deg";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

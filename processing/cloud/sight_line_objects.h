@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "processing/cloud/point_cloud.h"
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -40,6 +41,23 @@ struct SightLineOptions {
   double face_max_below_deg = 2.0;
   int min_face_rays = 3;
   double max_terrain_inclination_deg = 60.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("azimuth_bin_deg", self.azimuth_bin_deg,
+      {"azimuth bin of the lines of sight", "deg", 0.001, 5});
+    v("min_gap_m", self.min_gap_m,
+      {"a point this far above a line of sight that passed beneath it floats", "m", 0, 50});
+    v("sigma_factor", self.sigma_factor, {"the gap in the points' sigmas, at least", "", 0, 100});
+    v("min_witnesses", self.min_witnesses,
+      {"lines of sight needed to call a point floating", "", 1, 8});
+    v("face_bin_deg", self.face_bin_deg, {"azimuth bin of the face test", "deg", 0.001, 5});
+    v("face_min_below_deg", self.face_min_below_deg,
+      {"a face's points seen this far below the line, at least", "deg", 0, 90});
+    v("face_max_below_deg", self.face_max_below_deg, {"and at most", "deg", 0, 90});
+    v("min_face_rays", self.min_face_rays, {"lines of sight that make a face", "", 1, 1000});
+    v("max_terrain_inclination_deg", self.max_terrain_inclination_deg,
+      {"faces steeper than terrain can be", "deg", 0.1, 89.9});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -9,24 +9,7 @@
 namespace ts {
 
 bool UndersidePatchOptions::Check(std::string* why) const {
-  std::string err;
-  if (!(cell_m > 0.0))
-    err = "cell_m must be positive";
-  else if (gap_cells < 0)
-    err = "gap_cells must not be negative";
-  else if (!(max_area_m2 >= 0.0))
-    err = "max_area_m2 must not be negative";
-  else if (min_points < 3)
-    err = "min_points must be at least 3 (a plane)";
-  else if (!(slope_margin >= 0.0))
-    err = "slope_margin must not be negative";
-  else if (!(object_ratio >= 0.0))
-    err = "object_ratio must not be negative";
-  else if (object_ring_cells < 0 || object_ring_cells > 20)
-    err = "object_ring_cells must be in [0, 20]";
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
+  return CheckDeclaredOptions(*this, why);
 }
 
 UndersidePatches FindUndersidePatches(const std::vector<Eigen::Vector3d>& points,

@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -45,6 +46,19 @@ struct UndersidePatchOptions {
   // object_ring_cells around them is canopy, whichever way it faces (0: off).
   double object_ratio = 1.0;
   int object_ring_cells = 2;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("cell_m", self.cell_m, {"grid cell of the patches", "m", 0.05, 20});
+    v("gap_cells", self.gap_cells, {"empty cells a patch may bridge", "", 0, 20});
+    v("max_area_m2", self.max_area_m2, {"patches larger than this are terrain", "m2", 0, 10000});
+    v("min_points", self.min_points, {"patches with fewer points are left alone", "", 3, 100000});
+    v("slope_margin", self.slope_margin,
+      {"a patch falling away faster than the line of sight by this is an underside", "", 0, 10});
+    v("object_ratio", self.object_ratio,
+      {"a patch amid this many object points per own point is canopy (0: off)", "", 0, 1000});
+    v("object_ring_cells", self.object_ring_cells,
+      {"cells around a patch where its objects are counted", "", 0, 20});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -10,17 +10,9 @@
 namespace ts {
 
 bool HorizonLimitOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(near_m > 0.0) || !(edge_m > near_m))
-    err = "need 0 < near_m < edge_m";
-  else if (!(bin_half_width_deg > 0.0 && bin_half_width_deg <= 10.0))
-    err = "bin_half_width_deg must be in (0, 10]";
-  else if (!(tolerance_m >= 0.0))
-    err = "tolerance_m must not be negative";
-  else if (!(object_shadow_reach_m >= 0.0 && object_shadow_reach_m <= 50.0))
-    err = "object_shadow_reach_m must be in [0, 50]";
-  else if (!(min_object_height_m > 0.0))
-    err = "min_object_height_m must be positive";
+  if (!(edge_m > near_m)) err = "need near_m < edge_m";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "processing/common/options.h"
 #include "processing/io/raster.h"
 
 namespace ts {
@@ -60,6 +61,20 @@ struct HorizonLimitOptions {
   // How far kriging must reach for this stage, given kriging's own reach (data_reach_m).
   double KrigingReach(double data_reach_m) const {
     return enabled ? std::max(data_reach_m, object_shadow_reach_m) : data_reach_m;
+  }
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("enabled", self.enabled, {"bound cells nobody saw by what hid them", "", 0, 1});
+    v("near_m", self.near_m, {"a ground point this close: the cell was seen", "m", 0.01, 50});
+    v("edge_m", self.edge_m, {"the ground this close decides beyond the edge", "m", 0.01, 100});
+    v("bin_half_width_deg", self.bin_half_width_deg,
+      {"azimuth half-width of the lines of sight of a cell's horizon", "deg", 0.001, 10});
+    v("tolerance_m", self.tolerance_m,
+      {"above the horizon by more than this: lowered", "m", 0, 10});
+    v("object_shadow_reach_m", self.object_shadow_reach_m,
+      {"kriging's reach in the shadow of a tree or bush", "m", 0, 50});
+    v("min_object_height_m", self.min_object_height_m,
+      {"an object stands this far above the DEM at least", "m", 0.01, 50});
   }
   bool Check(std::string* why) const;
 };

@@ -14,19 +14,9 @@
 namespace ts {
 
 bool KrigingOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (neighbours < 1 || neighbours > 64)
-    err = "neighbours must be in [1, 64]";
-  else if (extrapolation_neighbours < 0 || extrapolation_neighbours > 256)
-    err = "extrapolation_neighbours must be in [0, 256]";
-  else if (!(search_radius_m > 0.0))
-    err = "search_radius_m must be positive";
-  else if (!(max_distance_m > 0.0))
-    err = "max_distance_m must be positive";
-  else if (!(thin_cell_m >= 0.0))
-    err = "thin_cell_m must be >= 0";
-  else if (!variogram.Check(&err))
-    err = "variogram: " + err;
+  if (!variogram.Check(&err)) err = "variogram: " + err;
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "processing/common/options.h"
 #include "processing/dem/variogram.h"
 #include "processing/io/raster.h"
 
@@ -45,6 +46,19 @@ struct KrigingOptions {
   // edges): DEM RMSE 0.364 -> 0.343 m with 64; hills 0.170 -> 0.174 m.
   int extrapolation_neighbours = 64;
   VariogramOptions variogram;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("neighbours", self.neighbours, {"kriging neighbours of a cell, at most", "", 1, 64});
+    v("search_radius_m", self.search_radius_m, {"no neighbour farther than this", "m", 0.1, 200});
+    v("max_distance_m", self.max_distance_m,
+      {"nodata where the nearest ground point is farther", "m", 0.1, 50});
+    v("thin_cell_m", self.thin_cell_m,
+      {"ground thinned to one mean point per square this wide (0: none)", "m", 0, 10});
+    v("linear_drift", self.linear_drift, {"universal kriging with a local linear drift", "", 0, 1});
+    v("extrapolation_neighbours", self.extrapolation_neighbours,
+      {"neighbours of a cell beyond the edge of the data", "", 0, 256});
+    v.Group("variogram", self.variogram);
+  }
   bool Check(std::string* why) const;
 };
 

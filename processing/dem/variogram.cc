@@ -11,15 +11,12 @@
 namespace ts {
 
 bool VariogramOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(bin_m > 0.0))
-    err = "bin_m must be positive";
-  else if (!(max_lag_m > bin_m))
+  if (!(max_lag_m > bin_m))
     err = "max_lag_m must exceed bin_m";
-  else if (max_points < 3)
-    err = "max_points must be at least 3";
-  else if (!(short_lag_m >= 0.0 && short_lag_m < max_lag_m))
-    err = "short_lag_m must be in [0, max_lag_m)";
+  else if (!(short_lag_m < max_lag_m))
+    err = "short_lag_m must be below max_lag_m";
   else if (short_lag_m > 0.0 && !(short_bin_m > 0.0 && short_bin_m <= short_lag_m))
     err = "short_bin_m must be in (0, short_lag_m]";
   if (err.empty()) return true;

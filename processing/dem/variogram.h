@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 #include <vector>
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -30,6 +31,16 @@ struct VariogramOptions {
   double short_lag_m = 2.0;  // 0: no short-lag pairs
   double short_bin_m = 0.25;
   uint32_t seed = 1;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("bin_m", self.bin_m, {"lag bin width", "m", 0.01, 50});
+    v("max_lag_m", self.max_lag_m, {"largest lag fitted", "m", 0.1, 500});
+    v("max_points", self.max_points,
+      {"points in the random subsample the variogram is taken from", "", 3, 100000});
+    v("short_lag_m", self.short_lag_m, {"short-lag pairs below this (0: none)", "m", 0, 100});
+    v("short_bin_m", self.short_bin_m, {"their bin width", "m", 0, 10});
+    v("seed", self.seed, {"subsample seed", "", 0, 4294967295});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -9,18 +9,9 @@
 namespace ts {
 
 bool TerrainCorrectionOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(density_kg_m3 > 0.0))
-    err = "density must be positive";
-  else if (!(sensor_height_m >= 0.0))
-    err = "sensor height must be >= 0";
-  else if (!(radius_m >= 0.0))
-    err = "radius must be >= 0";
-  else if (!(refine_radius_m >= 0.0))
-    err = "refine_radius_m must be >= 0";
-  else if (!(refine_ratio > 0.0) || !(min_subcell_m > 0.0))
-    err = "refine_ratio and min_subcell_m must be positive";
-  else if (!(far_field_ratio == 0.0 || far_field_ratio >= 5.0))
+  if (!(far_field_ratio == 0.0 || far_field_ratio >= 5.0))
     err = "far_field_ratio must be 0 (exact everywhere) or >= 5";
   if (err.empty()) return true;
   if (why) *why = err;

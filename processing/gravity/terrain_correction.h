@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "processing/common/options.h"
 #include "processing/io/raster.h"
 
 namespace ts {
@@ -39,6 +40,21 @@ struct TerrainCorrectionOptions {
   // field, relative error < 1e-4 there); 0: the exact prism everywhere.
   double far_field_ratio = 5.0;
   double min_ring_coverage = 0.9;  // warn below
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("density_kg_m3", self.density_kg_m3, {"density of the terrain", "kg/m3", 100, 10000});
+    v("sensor_height_m", self.sensor_height_m,
+      {"gravimeter sensor above the station mark", "m", 0, 100});
+    v("radius_m", self.radius_m,
+      {"cells whose centre is within it (0: the whole DEM)", "m", 0, 100000});
+    v("refine_radius_m", self.refine_radius_m,
+      {"prisms within this are refined towards the station", "m", 0, 1000});
+    v("refine_ratio", self.refine_ratio, {"sub-prism size over distance", "", 0.001, 10});
+    v("min_subcell_m", self.min_subcell_m, {"smallest sub-prism", "m", 0.0001, 10});
+    v("far_field_ratio", self.far_field_ratio,
+      {"distance over size beyond which a prism is a point mass (0: exact)", "", 0, 1000});
+    v("min_ring_coverage", self.min_ring_coverage, {"warn when a ring is covered less", "", 0, 1});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -44,16 +44,16 @@ bool IsTemporaryName(const std::string& file_name) {
   return file_name.find(".tmp-") != std::string::npos;
 }
 
-Status WriteFileAtomically(const std::string& path, std::string_view bytes) {
+std::string TemporaryPathFor(const std::string& path) {
   static std::atomic<unsigned> counter{0};
-  const std::filesystem::path final_path(path);
-  const std::string tmp =
-      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return Error{ErrnoText(path, "cannot create")};
-  if (!WriteAll(fd, bytes) || ::fsync(fd) != 0) {
+  return path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+}
+
+Status PublishAtomically(const std::string& tmp, const std::string& path) {
+  const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
     const std::string err = ErrnoText(path, "cannot write");
-    ::close(fd);
+    if (fd >= 0) ::close(fd);
     ::unlink(tmp.c_str());
     return Error{err};
   }
@@ -62,7 +62,20 @@ Status WriteFileAtomically(const std::string& path, std::string_view bytes) {
     ::unlink(tmp.c_str());
     return Error{err};
   }
-  return FsyncDirectory(final_path.parent_path());
+  return FsyncDirectory(std::filesystem::path(path).parent_path());
+}
+
+Status WriteFileAtomically(const std::string& path, std::string_view bytes) {
+  const std::string tmp = TemporaryPathFor(path);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return Error{ErrnoText(path, "cannot create")};
+  const bool written = WriteAll(fd, bytes);
+  if (::close(fd) != 0 || !written) {
+    const std::string err = ErrnoText(path, "cannot write");
+    ::unlink(tmp.c_str());
+    return Error{err};
+  }
+  return PublishAtomically(tmp, path);
 }
 
 Result<std::string> ReadWholeFile(const std::string& path) {

@@ -10,6 +10,10 @@
 namespace ts {
 
 Status WriteFileAtomically(const std::string& path, std::string_view bytes);
+// For libraries that write to a path themselves (PCL): let them write to TemporaryPathFor(path),
+// then PublishAtomically makes it final (fsync, rename, folder fsync); tmp is removed on failure.
+std::string TemporaryPathFor(const std::string& path);
+Status PublishAtomically(const std::string& tmp, const std::string& path);
 Result<std::string> ReadWholeFile(const std::string& path);
 // Temporary names look like "<name>.tmp-<pid>-<n>"; a crashed writer may leave one behind.
 bool IsTemporaryName(const std::string& file_name);

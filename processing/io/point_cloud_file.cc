@@ -5,6 +5,7 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
+#include <bit>
 #include <cstring>
 #include <filesystem>
 
@@ -51,16 +52,6 @@ double FieldValue(const uint8_t* p, uint8_t datatype) {
   }
 }
 
-void AddField(pcl::PCLPointCloud2* cloud, const std::string& name, uint8_t datatype, int size) {
-  pcl::PCLPointField f;
-  f.name = name;
-  f.offset = cloud->point_step;
-  f.datatype = datatype;
-  f.count = 1;
-  cloud->fields.push_back(f);
-  cloud->point_step += size;
-}
-
 }  // namespace
 
 Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path) {
@@ -93,43 +84,39 @@ Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path) 
   return points;
 }
 
+// The binary PLY body is the records as they lie in memory (little-endian, packed), so it is
+// written straight from one buffer: PCL's writer formats element by element and took 0.15 s
+// for a station's 250 k points, most of the time between the last pair and the products.
 Status WritePly(const std::string& path, const std::vector<Eigen::Vector3d>& points,
                 const std::vector<PlyColumn>& columns) {
-  pcl::PCLPointCloud2 cloud;
-  cloud.height = 1;
-  cloud.width = static_cast<uint32_t>(points.size());
-  cloud.is_dense = false;
-  for (const char* axis : {"x", "y", "z"}) AddField(&cloud, axis, pcl::PCLPointField::FLOAT64, 8);
+  static_assert(std::endian::native == std::endian::little, "PLY bodies are little-endian");
+  std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by topostation\n";
+  header += "element vertex " + std::to_string(points.size()) + "\n";
+  for (const char* axis : {"x", "y", "z"}) header += std::string("property double ") + axis + "\n";
+  size_t record = 24;
   for (const PlyColumn& c : columns) {
     const size_t filled = !c.f32.empty() + !c.i32.empty() + !c.u8.empty();
     const size_t size = c.f32.size() + c.i32.size() + c.u8.size();
     if (filled > 1 || size != points.size())
       return Error{path + ": column " + c.name + " does not have one value per point"};
-    if (!c.f32.empty()) AddField(&cloud, c.name, pcl::PCLPointField::FLOAT32, 4);
-    if (!c.i32.empty()) AddField(&cloud, c.name, pcl::PCLPointField::INT32, 4);
-    if (!c.u8.empty()) AddField(&cloud, c.name, pcl::PCLPointField::UINT8, 1);
+    const char* type = !c.f32.empty() ? "float" : !c.i32.empty() ? "int" : "uchar";
+    header += std::string("property ") + type + " " + c.name + "\n";
+    record += c.u8.empty() ? 4 : 1;
   }
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.data.resize(static_cast<size_t>(cloud.row_step));
+  header += "end_header\n";
+  std::string bytes(header.size() + record * points.size(), '\0');
+  std::memcpy(bytes.data(), header.data(), header.size());
   for (size_t i = 0; i < points.size(); ++i) {
-    uint8_t* p = cloud.data.data() + i * cloud.point_step;
+    char* p = bytes.data() + header.size() + i * record;
     std::memcpy(p, points[i].data(), 24);
-    for (size_t c = 0; c < columns.size(); ++c) {
-      uint8_t* q = p + cloud.fields[3 + c].offset;
-      if (!columns[c].f32.empty()) std::memcpy(q, &columns[c].f32[i], 4);
-      if (!columns[c].i32.empty()) std::memcpy(q, &columns[c].i32[i], 4);
-      if (!columns[c].u8.empty()) *q = columns[c].u8[i];
+    p += 24;
+    for (const PlyColumn& c : columns) {
+      if (!c.f32.empty()) std::memcpy(p, &c.f32[i], 4), p += 4;
+      if (!c.i32.empty()) std::memcpy(p, &c.i32[i], 4), p += 4;
+      if (!c.u8.empty()) *p++ = static_cast<char>(c.u8[i]);
     }
   }
-  // PCL writes to a path: let it write a scratch file, then publish the bytes atomically.
-  const std::string scratch = path + ".tmp-pcl";
-  pcl::PLYWriter writer;
-  const int status = writer.writeBinary(scratch, cloud, Eigen::Vector4f::Zero(),
-                                        Eigen::Quaternionf::Identity(), /*use_camera=*/false);
-  Result<std::string> bytes = ReadWholeFile(scratch);
-  std::filesystem::remove(scratch);
-  if (status < 0 || !bytes) return Error{path + ": could not write the PLY file"};
-  return WriteFileAtomically(path, *bytes);
+  return WriteFileAtomically(path, bytes);
 }
 
 }  // namespace ts

@@ -1,5 +1,5 @@
 #pragma once
-// Point cloud files through PCL: any PCD or PLY with x, y, z fields (float or double) in,
+// Point cloud files: any PCD or PLY with x, y, z fields (float or double) in (through PCL),
 // binary little-endian PLY with double coordinates and per-point attributes out (written to
 // a temporary name and renamed, like every product). PCL stays inside the .cc.
 #include <Eigen/Core>

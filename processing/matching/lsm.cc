@@ -10,17 +10,9 @@
 namespace ts {
 
 bool LsmOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (half_window_px < 2 || half_window_px > 50)
-    err = "half_window_px must be in [2, 50]";
-  else if (half_height_px < 0 || half_height_px > 50 || half_height_px == 1)
-    err = "half_height_px must be 0 (square) or in [2, 50]";
-  else if (max_iterations < 1)
-    err = "max_iterations must be at least 1";
-  else if (!(convergence_px > 0.0) || !(max_shift_px > 0.0) || !(max_sigma_px > 0.0))
-    err = "convergence, max shift and max sigma must be positive";
-  else if (!(min_correlation >= -1.0 && min_correlation <= 1.0))
-    err = "min_correlation must be in [-1, 1]";
+  if (half_height_px == 1) err = "half_height_px must be 0 (square) or in [2, 50]";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <string>
+#include "processing/common/options.h"
 
 namespace ts {
 
@@ -38,6 +39,20 @@ struct LsmOptions {
   // only x = a0 + a1 x + a2 y is fitted (Baltsavias' geometric constraint): three geometric
   // parameters instead of six, linear instead of bilinear resampling.
   bool along_rows_only = false;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("half_window_px", self.half_window_px, {"template half width", "px", 2, 50});
+    v("half_height_px", self.half_height_px, {"template half height (0: square)", "px", 0, 50});
+    v("max_iterations", self.max_iterations, {"iterations at most", "", 1, 1000});
+    v("convergence_px", self.convergence_px,
+      {"stop when the shift update is smaller", "px", 1e-9, 1});
+    v("max_shift_px", self.max_shift_px,
+      {"reject if the match moves farther from the start", "px", 0.01, 100});
+    v("min_correlation", self.min_correlation, {"reject weaker matches", "", -1, 1});
+    v("max_sigma_px", self.max_sigma_px, {"reject less precise matches", "px", 1e-6, 100});
+    v("along_rows_only", self.along_rows_only,
+      {"fit the shift along the rows only (rectified pairs)", "", 0, 1});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -11,34 +11,25 @@
 
 namespace ts {
 
+PairMatchOptions PairMatchOptions::ForStation() {
+  PairMatchOptions m;
+  m.min_spacing_m = 0.2;
+  m.lsm.half_window_px = 8;
+  m.lsm.max_sigma_px = 0.075;
+  m.far_lsm.max_sigma_px = 0.075;
+  m.near_lsm.max_sigma_px = 0.075;
+  return m;
+}
+
 bool PairMatchOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
   if (!enhance.Check(&err) || !interest.Check(&err) || !pyramid.Check(&err)) {
-  } else if (!lsm.Check(&err)) {
-    err = "lsm: " + err;
-  } else if (dense_step_px < 0) {
-    err = "dense_step_px must not be negative";
-  } else if (dense_finest_level < 0) {
-    err = "dense_finest_level must not be negative";
-  } else if (ncc_half_window_px < 1) {
-    err = "ncc_half_window_px must be at least 1";
-  } else if (!(min_depth_m > 0.0 && max_depth_m > min_depth_m)) {
-    err = "need 0 < min_depth_m < max_depth_m";
+  } else if (!(max_depth_m > min_depth_m)) {
+    err = "need min_depth_m < max_depth_m";
   } else if ((min_disparity_px >= 0) != (max_disparity_px >= 0) ||
              (max_disparity_px >= 0 && max_disparity_px <= min_disparity_px)) {
     err = "give both min_disparity_px and max_disparity_px, with max > min";
-  } else if (max_consistency_px < 0) {
-    err = "max_consistency_px must not be negative";
-  } else if (!(sigma_scale > 0.0)) {
-    err = "sigma_scale must be positive";
-  } else if (!(min_spacing_m >= 0.0)) {
-    err = "min_spacing_m must not be negative";
-  } else if (!(half_resolution_within_m >= 0.0) || !(far_window_from_m >= 0.0)) {
-    err = "half_resolution_within_m and far_window_from_m must not be negative";
-  } else if (!far_lsm.Check(&err)) {
-    err = "far_lsm: " + err;
-  } else if (!near_lsm.Check(&err)) {
-    err = "near_lsm: " + err;
   }
   if (err.empty()) return true;
   if (why) *why = err;

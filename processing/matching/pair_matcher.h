@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "processing/common/options.h"
 #include "processing/matching/enhance.h"
 #include "processing/matching/forstner.h"
 #include "processing/matching/lsm.h"
@@ -110,7 +111,41 @@ struct PairMatchOptions {
   // resampling correlate neighbouring pixels, so the reported sigma is this times it
   // (measured on the simulator's true ranges: see bench_matching).
   double sigma_scale = 3.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("dense_step_px", self.dense_step_px,
+      {"every n-th pixel instead of Foerstner points (0: Foerstner)", "px", 0, 1000});
+    v("min_spacing_m", self.min_spacing_m,
+      {"points closer together on the object are skipped", "m", 0, 100});
+    v("dense_finest_level", self.dense_finest_level,
+      {"pyramid maps down to this level", "", 0, 10});
+    v("ncc_half_window_px", self.ncc_half_window_px,
+      {"full-resolution NCC half window", "px", 1, 50});
+    v("min_ncc", self.min_ncc, {"weakest NCC accepted", "", -1, 1});
+    v("min_depth_m", self.min_depth_m, {"nearest ground the rig can see", "m", 0.1, 10000});
+    v("max_depth_m", self.max_depth_m, {"farthest ground matched", "m", 0.1, 100000});
+    v("min_disparity_px", self.min_disparity_px,
+      {"explicit disparity range (-1: from the depths)", "px", -1, 100000});
+    v("max_disparity_px", self.max_disparity_px,
+      {"explicit disparity range (-1: from the depths)", "px", -1, 100000});
+    v("half_resolution_within_m", self.half_resolution_within_m,
+      {"nearer points are matched at half resolution (0: never)", "m", 0, 1000});
+    v("far_window_from_m", self.far_window_from_m,
+      {"farther points get the wide, low windows (0: never)", "m", 0, 100000});
+    v("max_consistency_px", self.max_consistency_px,
+      {"the way back may differ this much", "px", 0, 100});
+    v("sigma_scale", self.sigma_scale,
+      {"the LSM sigma times this (correlated pixels)", "", 0.01, 100});
+    v.Group("lsm", self.lsm);
+    v.Group("near_lsm", self.near_lsm);
+    v.Group("far_lsm", self.far_lsm);
+  }
   bool Check(std::string* why) const;
+  // For a station's DEM: points 20 cm apart on the ground (a 1 m DEM averages dozens a cell,
+  // kriging thins to 25 cm) and 17 x 17 least-squares windows at sigma <= 0.075 px everywhere
+  // (more, less precise points: the DEM's error is set by their number, not each one's
+  // precision).
+  static PairMatchOptions ForStation();
 };
 
 struct StereoMatch {

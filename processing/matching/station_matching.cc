@@ -7,6 +7,19 @@
 
 namespace ts {
 
+MatchedPair MatchPairIntoL(const Calibration& calibration, const Rectification& r,
+                           const StereoPairImages& p, const PairMatchOptions& options) {
+  MatchedPair out;
+  out.index = p.index;
+  cv::Mat left, right;
+  RectifyPair(r, p.left, p.right, &left, &right);
+  const std::vector<StereoMatch> matches =
+      MatchRectifiedPair(r, left, right, options, &out.summary);
+  AppendPairPoints(r, matches, calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg), p.index,
+                   &out.cloud);
+  return out;
+}
+
 StationMatchResult MatchStation(const Calibration& calibration,
                                 const std::vector<StereoPairImages>& pairs,
                                 const PairMatchOptions& options) {
@@ -24,13 +37,9 @@ StationMatchResult MatchStation(const Calibration& calibration,
       cv::Range(0, static_cast<int>(pairs.size())),
       [&](const cv::Range& range) {
         for (int i = range.start; i < range.end; ++i) {
-          const StereoPairImages& p = pairs[i];
-          cv::Mat left, right;
-          RectifyPair(r, p.left, p.right, &left, &right);
-          const std::vector<StereoMatch> matches =
-              MatchRectifiedPair(r, left, right, options, &result.pairs[i]);
-          AppendPairPoints(r, matches, calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg),
-                           p.index, &clouds[i]);
+          MatchedPair m = MatchPairIntoL(calibration, r, pairs[i], options);
+          clouds[i] = std::move(m.cloud);
+          result.pairs[i] = m.summary;
         }
       },
       static_cast<double>(pairs.size()));

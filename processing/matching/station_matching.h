@@ -25,6 +25,16 @@ struct StationMatchResult {
   double pairs_s = 0.0;                 // rectifying, matching and intersecting all pairs
 };
 
+// One pair's points: rectified with r (Rectify(calibration.rig)), matched, intersected and
+// taken into L with the pair's read-back. The same for a pair alone as inside MatchStation.
+struct MatchedPair {
+  int index = 0;
+  PointCloud cloud;
+  PairMatchSummary summary;
+};
+MatchedPair MatchPairIntoL(const Calibration& calibration, const Rectification& r,
+                           const StereoPairImages& pair, const PairMatchOptions& options);
+
 StationMatchResult MatchStation(const Calibration& calibration,
                                 const std::vector<StereoPairImages>& pairs,
                                 const PairMatchOptions& options);

@@ -1,0 +1,61 @@
+#pragma once
+// The options of `process`: the DEM's geometry and each step's options, with the values a
+// tripod's station wants where they differ from a step's own defaults (the presets named
+// beside each step's options).
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "processing/common/options.h"
+
+#include "processing/cloud/ground_filter.h"
+#include "processing/cloud/height_blunder_filter.h"
+#include "processing/cloud/sight_line_objects.h"
+#include "processing/cloud/underside_patches.h"
+#include "processing/dem/horizon_limit.h"
+#include "processing/dem/kriging.h"
+#include "processing/gravity/terrain_correction.h"
+#include "processing/matching/pair_matcher.h"
+#include "processing/products/panorama.h"
+
+namespace ts {
+
+struct ProcessOptions {
+  std::string calibration_file;   // empty: the calibration recorded in station.json
+  std::string gcp_file;           // empty: the DEM stays in the station frame L
+  double dem_half_size_m = 30.0;  // the DEM covers the square of 2 x this around the station
+  double dem_cell_m = 1.0;
+  double cloud_margin_m = 10.0;  // points this far beyond the square still inform the DEM
+  PairMatchOptions matching = PairMatchOptions::ForStation();
+  HeightBlunderOptions blunders;
+  SightLineOptions sight_lines;
+  GroundFilterOptions ground = GroundFilterOptions::ForTripod();
+  UndersidePatchOptions underside_patches;
+  KrigingOptions kriging;
+  HorizonLimitOptions horizon;
+  PanoramaOptions panorama;
+  TerrainCorrectionOptions terrain_correction;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("calibration_file", self.calibration_file, {"calibration YAML (empty: station.json's)"});
+    v("gcp_file", self.gcp_file, {"ground control points YAML (empty: the station frame L)"});
+    v("dem_half_size_m", self.dem_half_size_m, {"the DEM square's half side", "m", 5, 500});
+    v("dem_cell_m", self.dem_cell_m, {"DEM cell size", "m", 0.1, 10});
+    v("cloud_margin_m", self.cloud_margin_m,
+      {"points this far beyond the square still inform the DEM", "m", 0, 100});
+    v.Group("matching", self.matching);
+    v.Group("blunders", self.blunders);
+    v.Group("sight_lines", self.sight_lines);
+    v.Group("ground", self.ground);
+    v.Group("underside_patches", self.underside_patches);
+    v.Group("kriging", self.kriging);
+    v.Group("horizon", self.horizon);
+    v.Group("panorama", self.panorama);
+    v.Group("terrain_correction", self.terrain_correction);
+  }
+  // Every field in its range, and each step's own consistency checks.
+  bool Check(std::string* why) const;
+};
+
+nlohmann::json ProcessOptionsToJson(const ProcessOptions& options);
+
+}  // namespace ts

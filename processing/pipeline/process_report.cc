@@ -1,0 +1,92 @@
+#include "processing/pipeline/process_report.h"
+
+#include <sys/resource.h>
+
+#include <cmath>
+
+#include "processing/common/version.h"
+#include "processing/dem/variogram.h"
+#include "processing/geometry/theoretical_accuracy.h"
+
+namespace ts {
+namespace {
+
+double PeakMemoryMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // kB on Linux
+}
+
+// Every step's counts in one object (the per-pair table apart).
+nlohmann::json Counts(const ProcessSummary& summary) {
+  nlohmann::json counts = nlohmann::json::object();
+  for (const StepSummary& s : summary.steps)
+    for (const auto& [key, value] : s.counts.items())
+      if (key != "per_pair") counts[key] = value;
+  return counts;
+}
+
+nlohmann::json Steps(const ProcessSummary& summary) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const StepSummary& s : summary.steps)
+    steps.push_back({{"name", s.name},
+                     {"state", s.state == StepSummary::State::kSucceeded ? "succeeded" : "failed"},
+                     {"seconds", s.seconds}});
+  return steps;
+}
+
+nlohmann::json AccuracyTable(const Calibration& calibration) {
+  nlohmann::json accuracy = nlohmann::json::array();
+  for (const AccuracyRow& row :
+       TheoreticalAccuracy(calibration.rig.baseline_m, calibration.rig.left.principal_distance_px,
+                           TheoreticalAccuracyOptions{}))
+    accuracy.push_back({{"range_m", row.range_m},
+                        {"sigma_x_m", row.sigma_x_m},
+                        {"sigma_y_m", row.sigma_y_m},
+                        {"sigma_z_m", row.sigma_z_m}});
+  return accuracy;
+}
+
+}  // namespace
+
+nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
+                                  const ProcessSummary& summary, double wall_s) {
+  const StationInputs& in = *w.inputs;
+  nlohmann::json report;
+  report["station"] = in.manifest.station_id;
+  report["software"] = {{"name", "topostation"}, {"version", SoftwareVersion()}};
+  report["calibration"] = {{"source", in.calibration_source}, {"sha256", in.calibration_sha256}};
+  report["frame"] = in.georeference ? "projected CRS (GCPs)" : "station frame L";
+  report["station_mark"] = {w.mark_dem.x(), w.mark_dem.y(), w.mark_dem.z()};
+  report["terrain_correction_mgal"] = w.terrain_correction.total_mgal;
+  report["terrain_correction_sigma_mgal"] = w.terrain_correction.sigma_mgal;
+  report["timings_s"] = summary.TimingsJson();
+  report["steps"] = Steps(summary);
+  report["wall_s"] = wall_s;
+  report["peak_memory_mib"] = PeakMemoryMiB();
+  report["counts"] = Counts(summary);
+  if (const StepSummary* matching = summary.Find("matching"))
+    report["pairs"] = matching->counts.value("per_pair", nlohmann::json::array());
+  const VariogramModel& model = w.kriged.model;
+  report["variogram"] = {{"model", VariogramKindName(model.kind)},
+                         {"nugget_m2", model.nugget},
+                         {"partial_sill_m2", model.partial_sill},
+                         {"range_m", model.range_m}};
+  report["dem"] = {{"cell_m", o.dem_cell_m},
+                   {"cells", w.kriged.dem.cols * w.kriged.dem.rows},
+                   {"coverage_30m", w.coverage_30m},
+                   {"coverage_square", w.coverage_square}};
+  if (in.georeference) {
+    const Georeference& g = *in.georeference;
+    report["georeference"] = {{"scale", g.scale},
+                              {"rotation_deg", g.rotation_rad * 180.0 / M_PI},
+                              {"height_offset_m", g.height_offset_m},
+                              {"gcp_residuals_m", g.residuals_m}};
+  }
+  report["theoretical_accuracy"] = AccuracyTable(in.calibration);
+  report["options"] = ProcessOptionsToJson(o);
+  report["warnings"] = summary.Warnings();
+  return report;
+}
+
+}  // namespace ts

@@ -1,0 +1,242 @@
+#include "processing/pipeline/station_processor.h"
+
+#include <algorithm>
+
+#include "processing/io/atomic_file.h"
+#include "processing/pipeline/process_report.h"
+#include "processing/pipeline/products.h"
+
+namespace ts {
+namespace {
+
+// The steps of `process` after the pairs are matched, in order (the method of DESIGN.md).
+using StationStep = bool (*)(const ProcessOptions&, StationWork*, StepSummary*);
+const std::pair<const char*, StationStep> kStationSteps[] = {
+    {"blunder_filter", FilterHeightBlunders},
+    {"sight_line_objects", FindObjectsAlongSightLines},
+    {"ground_filter", FilterGroundPoints},
+    {"underside_patches", RemoveUndersidePatches},
+    {"kriging", KrigeStationDem},
+    {"horizon_limit", LimitDemToHorizon},
+    {"terrain_correction", CorrectTerrain},
+    {"products", [](const ProcessOptions& o, StationWork* w,
+                    StepSummary* s) { return WriteProducts(o, *w, s); }},
+};
+constexpr int kStepCount = 3 + static_cast<int>(std::size(kStationSteps));  // + load, matching,
+                                                                            // report
+
+StereoPairImages PoseOnly(const StereoPairImages& p) {
+  return {p.index, p.pan_deg, p.tilt_deg, {}, {}};
+}
+
+}  // namespace
+
+StationProcessor::StationProcessor(std::string station_dir, ProcessOptions options,
+                                   ProcessControl control)
+    : dir_(std::move(station_dir)), options_(std::move(options)), control_(std::move(control)) {}
+
+StationProcessor::~StationProcessor() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void StationProcessor::AddPair(const PairRecord& pair, const cv::Mat& left, const cv::Mat& right) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back({pair, left, right});
+    if (!worker_.joinable()) worker_ = std::thread([this] { Work(); });
+  }
+  changed_.notify_all();
+}
+
+void StationProcessor::Work() {
+  std::optional<StationInputs> inputs;
+  std::unique_ptr<Rectification> rectification;
+  std::unique_lock lock(mutex_);
+  while (true) {
+    changed_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (stopping_ || control_.StopRequested()) break;
+    Pending pending = std::move(queue_.front());
+    queue_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string error;
+    if (!inputs) {  // the manifest holds the first pair by now: read the calibration as process
+                    // does
+      Result<StationInputs> loaded =
+          LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file);
+      if (loaded) {
+        inputs = std::move(*loaded);
+        rectification = std::make_unique<Rectification>(Rectify(inputs->calibration.rig));
+        std::lock_guard relock(mutex_);
+        panorama_ = std::make_unique<PanoramaBuilder>(inputs->calibration, options_.panorama);
+      } else {
+        error = loaded.error();
+      }
+    }
+    std::optional<MatchedPair> matched;
+    StereoPairImages images{pending.record.index, pending.record.readback.pan_deg,
+                            pending.record.readback.tilt_deg, pending.left, pending.right};
+    if (inputs) {
+      try {
+        matched = MatchPairIntoL(inputs->calibration, *rectification, images, options_.matching);
+        panorama_->Add({images});  // only this thread adds while it runs
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    lock.lock();
+    busy_ = false;
+    worker_matching_s_ += seconds;
+    if (matched) {
+      worker_calibration_sha256_ = inputs->calibration_sha256;
+      poses_[images.index] = PoseOnly(images);
+      matched_[images.index] = std::move(*matched);
+    } else if (worker_error_.empty()) {
+      worker_error_ = error;  // Finish() matches the pair again and reports what it finds
+    }
+    const int done = static_cast<int>(matched_.size());
+    lock.unlock();
+    if (control_.progress) control_.progress({"matching", 0, 0, done, 0, 0.0});
+    changed_.notify_all();
+    lock.lock();
+  }
+  busy_ = false;
+  changed_.notify_all();
+}
+
+bool StationProcessor::MatchPairs(StationWork* w, StepSummary* s) {
+  const StationInputs& in = *w->inputs;
+  {  // the pairs handed in are matched, or the worker has stopped
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] {
+      return (queue_.empty() && !busy_) || stopping_ || control_.StopRequested();
+    });
+    if (worker_calibration_sha256_ != in.calibration_sha256 || !panorama_) {
+      matched_.clear(), poses_.clear();
+      panorama_ = std::make_unique<PanoramaBuilder>(in.calibration, options_.panorama);
+    }
+  }
+  std::vector<PairRecord> records = in.manifest.pairs;
+  std::sort(records.begin(), records.end(),
+            [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
+  std::vector<const PairRecord*> missing;
+  for (const PairRecord& p : records) {
+    auto m = matched_.find(p.index);
+    const bool same_pose = m != matched_.end() && poses_[p.index].pan_deg == p.readback.pan_deg &&
+                           poses_[p.index].tilt_deg == p.readback.tilt_deg;
+    if (!same_pose) missing.push_back(&p);
+  }
+  const int matched_before = static_cast<int>(records.size() - missing.size());
+  if (!missing.empty()) {  // one pair per task, as MatchStation does
+    const Rectification r = Rectify(in.calibration.rig);
+    std::vector<std::string> errors(missing.size());
+    std::vector<std::optional<MatchedPair>> results(missing.size());
+    std::vector<StereoPairImages> images(missing.size());
+    cv::parallel_for_(
+        cv::Range(0, static_cast<int>(missing.size())),
+        [&](const cv::Range& range) {
+          for (int i = range.start; i < range.end; ++i) {
+            if (control_.StopRequested()) return;
+            Result<StereoPairImages> loaded = LoadPairImages(in, *missing[i]);
+            if (!loaded) {
+              errors[i] = loaded.error();
+              continue;
+            }
+            results[i] = MatchPairIntoL(in.calibration, r, *loaded, options_.matching);
+            images[i] = std::move(*loaded);
+          }
+        },
+        static_cast<double>(missing.size()));
+    for (size_t i = 0; i < missing.size(); ++i) {
+      if (!errors[i].empty()) {
+        s->message = errors[i];
+        return false;
+      }
+      if (!results[i]) return false;  // cancelled
+      poses_[missing[i]->index] = PoseOnly(images[i]);
+      matched_[missing[i]->index] = std::move(*results[i]);
+      images[i].right = cv::Mat();  // the panorama needs the left ones
+    }
+    panorama_->Add(images);
+  }
+  nlohmann::json per_pair = nlohmann::json::array();
+  for (const PairRecord& p : records) {
+    MatchedPair& m = matched_.at(p.index);
+    w->cloud.insert(w->cloud.end(), m.cloud.begin(), m.cloud.end());
+    w->pairs.push_back(poses_.at(p.index));
+    per_pair.push_back({{"pair", p.index},
+                        {"interest_points", m.summary.points},
+                        {"matched", m.summary.consistent},
+                        {"matching_s", m.summary.matching_s}});
+    if (m.summary.consistent < 1000)
+      s->warnings.push_back("pair " + std::to_string(p.index) + " gave only " +
+                            std::to_string(m.summary.consistent) + " matches");
+  }
+  w->panorama = panorama_->Image();
+  s->counts = {{"pairs", records.size()},
+               {"matched_during_capture", matched_before},
+               {"matching_during_capture_s", worker_matching_s_},
+               {"points", w->cloud.size()},
+               {"per_pair", per_pair}};
+  return true;
+}
+
+Result<ProcessResult> StationProcessor::Finish() {
+  summary_ = {};
+  StepRunner run(control_, kStepCount, &summary_);
+  std::string why;
+  if (!options_.Check(&why)) return Error{"process options: " + why};
+  std::optional<StationInputs> inputs;
+  StationWork work;
+  run.Run("load", [&](StepSummary* s) {
+    Result<StationInputs> loaded =
+        LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file);
+    if (!loaded) return s->message = loaded.error(), false;
+    inputs = std::move(*loaded);
+    const StationManifest& m = inputs->manifest;
+    if (m.pairs.empty()) return s->message = dir_ + "/station.json: pairs: no pair captured", false;
+    if (!m.Complete())
+      s->warnings.push_back("station incomplete: " + std::to_string(m.pairs.size()) + " of " +
+                            std::to_string(m.plan.size()) + " pairs");
+    work.inputs = &*inputs;
+    return true;
+  });
+  run.Run("matching", [&](StepSummary* s) { return MatchPairs(&work, s); });
+  for (const auto& [name, step] : kStationSteps)
+    run.Run(name, [&, step = step](StepSummary* s) { return step(options_, &work, s); });
+  nlohmann::json report;
+  run.Run("report", [&](StepSummary* s) {
+    report = BuildProcessReport(options_, work, summary_, run.elapsed_s());
+    const Status written =
+        WriteFileAtomically(dir_ + "/products/report.json", report.dump(2) + "\n");
+    if (!written) s->message = written.error();
+    return written.ok();
+  });
+  run.Finish();
+  if (!summary_.IsUsable()) return Error{summary_.message};
+  ProcessResult result;
+  result.report = std::move(report);
+  result.summary = summary_;
+  result.cloud = std::move(work.cloud);
+  result.point_class = std::move(work.point_class);
+  result.dem = std::move(work.kriged.dem);
+  result.dem_std = std::move(work.kriged.std);
+  result.terrain_correction = work.terrain_correction;
+  return result;
+}
+
+Result<ProcessResult> ProcessStation(const std::string& station_dir, const ProcessOptions& options,
+                                     const ProcessControl& control) {
+  StationProcessor processor(station_dir, options, control);
+  return processor.Finish();
+}
+
+}  // namespace ts

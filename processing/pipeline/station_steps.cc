@@ -1,0 +1,158 @@
+#include "processing/pipeline/station_steps.h"
+
+#include <cmath>
+#include <string>
+
+#include "processing/cloud/ground_filter.h"
+#include "processing/cloud/height_blunder_filter.h"
+#include "processing/cloud/sight_line_objects.h"
+#include "processing/cloud/underside_patches.h"
+#include "processing/dem/dem_evaluation.h"
+#include "processing/dem/horizon_limit.h"
+
+namespace ts {
+
+bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  // Only the neighbourhood of the DEM square matters from here on.
+  const double reach = o.dem_half_size_m + o.cloud_margin_m;
+  w->point_class.assign(w->cloud.size(), kOutsideDem);
+  for (size_t i = 0; i < w->cloud.size(); ++i) {
+    const Eigen::Vector3d& p = w->cloud[i].position_m;
+    if (std::abs(p.x()) <= reach && std::abs(p.y()) <= reach)
+      w->region.push_back(p), w->region_index.push_back(static_cast<int>(i));
+  }
+  w->blunder = FindHeightBlunders(w->region, o.blunders);
+  size_t blunders = 0;
+  for (size_t i = 0; i < w->region.size(); ++i) {
+    w->point_class[w->region_index[i]] = w->blunder[i] ? kBlunder : kObject;
+    blunders += w->blunder[i];
+  }
+  s->counts = {{"points", w->cloud.size()},
+               {"points_near_square", w->region.size()},
+               {"blunders", blunders}};
+  if (w->region.empty()) {
+    s->message = "no point within " + std::to_string(reach) + " m of the station";
+    return false;
+  }
+  return true;
+}
+
+bool FindObjectsAlongSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const Calibration& calibration = w->inputs->calibration;
+  for (const StereoPairImages& p : w->pairs)
+    w->viewpoints[p.index] =
+        calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg).translation();
+  for (const auto& [pair, centre] : w->viewpoints)
+    w->station_viewpoint += centre / w->viewpoints.size();
+  const SightLineObjects seen = FindSightLineObjects(w->cloud, w->viewpoints, o.sight_lines);
+  for (size_t i = 0; i < w->region.size(); ++i) {
+    if (w->blunder[i]) continue;
+    const int index = w->region_index[i];
+    if (seen.floating[index] || seen.on_face[index])
+      w->seen_objects.push_back(w->region[i]);
+    else
+      w->kept.push_back(w->region[i]), w->kept_index.push_back(index);
+  }
+  s->counts = {{"floating", seen.floating_count}, {"on_faces", seen.face_count}};
+  return true;
+}
+
+bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  w->ground_of_kept = FilterGround(w->kept, o.ground, w->seen_objects).ground;
+  size_t ground = 0;
+  for (uint8_t g : w->ground_of_kept) ground += g;
+  s->counts = {{"ground_candidates", w->kept.size()}, {"ground_before_patches", ground}};
+  return true;
+}
+
+bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const UndersidePatches underside =
+      FindUndersidePatches(w->kept, w->ground_of_kept, w->station_viewpoint, o.underside_patches);
+  const PointCloud& cloud = w->cloud;
+  for (size_t i = 0; i < w->kept.size(); ++i) {
+    const bool is_ground = w->ground_of_kept[i] && !underside.underside[i];
+    w->point_class[w->kept_index[i]] = is_ground ? kGround : kObject;
+    if (!is_ground) continue;
+    w->ground.positions.push_back(w->kept[i]);
+    w->ground.height_variances_m2.push_back(cloud[w->kept_index[i]].covariance_m2(2, 2));
+  }
+  s->counts = {{"underside_patches", underside.underside_patches},
+               {"patches_among_objects", underside.among_objects},
+               {"ground", w->ground.positions.size()}};
+  if (w->ground.positions.empty()) {
+    s->message = "no ground point left to make a DEM of";
+    return false;
+  }
+  return true;
+}
+
+bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const StationInputs& in = *w->inputs;
+  const Eigen::Vector3d mark_l = in.calibration.stage.StationMarkInL();
+  w->station_xy = mark_l.head<2>();
+  std::string crs_wkt;
+  if (in.georeference) {
+    for (Eigen::Vector3d& p : w->ground.positions) p = in.georeference->ToWorld(p);
+    w->station_xy = in.georeference->ToWorld(mark_l).head<2>();
+    crs_wkt = in.georeference->crs_wkt;
+  }
+  w->mark_dem = {w->station_xy.x(), w->station_xy.y(),
+                 in.georeference ? in.georeference->ToWorld(mark_l).z() : mark_l.z()};
+  // A square of whole cells around the station (snapped to the cell grid in a CRS).
+  const int cells = static_cast<int>(std::lround(2 * o.dem_half_size_m / o.dem_cell_m));
+  double min_x = w->station_xy.x() - o.dem_half_size_m;
+  double max_y = w->station_xy.y() + o.dem_half_size_m;
+  if (in.georeference) {
+    min_x = std::floor(min_x / o.dem_cell_m) * o.dem_cell_m;
+    max_y = std::ceil(max_y / o.dem_cell_m) * o.dem_cell_m;
+  }
+  Raster grid = Raster::Make(min_x, max_y, o.dem_cell_m, cells, cells);
+  grid.crs_wkt = crs_wkt;
+  // Kriging reaches as far as object shadows may; LimitDemToHorizon takes back what no object
+  // hid.
+  KrigingOptions kriging = o.kriging;
+  kriging.max_distance_m = o.horizon.KrigingReach(o.kriging.max_distance_m);
+  w->kriged = KrigeDem(w->ground, grid, kriging);
+  w->kriged.dem.crs_wkt = w->kriged.std.crs_wkt = crs_wkt;
+  s->counts = {{"kriging_points", w->kriged.points_used}, {"cells", cells * cells}};
+  return true;
+}
+
+bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const StationInputs& in = *w->inputs;
+  // Extrapolated past a brow, no higher than the horizon; beyond kriging's reach only in an
+  // object's shadow (every point seen, ground or not).
+  std::vector<Eigen::Vector3d> seen_points = w->kept;
+  std::vector<uint8_t> seen_ground(w->kept.size(), 0);
+  for (size_t i = 0; i < w->kept.size(); ++i)
+    seen_ground[i] = w->point_class[w->kept_index[i]] == kGround;
+  seen_points.insert(seen_points.end(), w->seen_objects.begin(), w->seen_objects.end());
+  seen_ground.resize(seen_points.size(), 0);
+  Eigen::Vector3d viewpoint = w->station_viewpoint;
+  if (in.georeference) {
+    for (Eigen::Vector3d& p : seen_points) p = in.georeference->ToWorld(p);
+    viewpoint = in.georeference->ToWorld(viewpoint);
+  }
+  const HorizonLimitResult horizon =
+      LimitToHorizon(seen_points, seen_ground, viewpoint, o.horizon, &w->kriged.dem, &w->kriged.std,
+                     o.kriging.max_distance_m);
+  w->coverage_30m = DemCoverage(w->kriged.dem, w->station_xy, 30.0);
+  w->coverage_square = DemCoverage(w->kriged.dem, w->station_xy, 0.0);
+  if (w->coverage_30m < 0.95)
+    s->warnings.push_back("DEM covers only " +
+                          std::to_string(static_cast<int>(100 * w->coverage_30m)) +
+                          " % of the cells within 30 m of the station");
+  s->counts = {{"cells_lowered_to_horizon", horizon.cells_lowered},
+               {"cells_in_object_shadows", horizon.cells_in_object_shadows}};
+  return true;
+}
+
+bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  w->terrain_correction =
+      ComputeTerrainCorrection(w->kriged.dem, &w->kriged.std, w->mark_dem, o.terrain_correction);
+  for (const std::string& warning : w->terrain_correction.warnings)
+    s->warnings.push_back("terrain correction: " + warning);
+  return true;
+}
+
+}  // namespace ts

@@ -1,0 +1,57 @@
+#pragma once
+// The station-wide steps of `process`, after every pair has been matched into L (DESIGN.md
+// "Processing pipeline"), each a function over the station's working state:
+//   FilterHeightBlunders -> FindObjectsAlongSightLines -> FilterGroundPoints ->
+//   RemoveUndersidePatches -> KrigeStationDem -> LimitDemToHorizon -> CorrectTerrain
+// A step fills its StepSummary (counts, warnings) and returns false with summary->message on
+// failure; processing code below may throw, which the StepRunner catches.
+#include <Eigen/Core>
+#include <map>
+#include <vector>
+
+#include "processing/cloud/point_cloud.h"
+#include "processing/dem/kriging.h"
+#include "processing/gravity/terrain_correction.h"
+#include "processing/pipeline/process_options.h"
+#include "processing/pipeline/station_inputs.h"
+#include "processing/pipeline/step.h"
+
+namespace ts {
+
+enum PointClass : uint8_t { kOutsideDem = 0, kBlunder = 1, kObject = 2, kGround = 3 };
+
+// Everything the station-wide steps read and write, in the order they fill it.
+struct StationWork {
+  const StationInputs* inputs = nullptr;
+  std::vector<StereoPairImages> pairs;        // in pair order: index and read-back, no images
+  cv::Mat panorama;                           // products/panorama.png, drawn as the pairs came
+  PointCloud cloud;                           // every intersected point, in L, in pair order
+  std::map<int, Eigen::Vector3d> viewpoints;  // left camera centre per pair, in L
+  Eigen::Vector3d station_viewpoint = Eigen::Vector3d::Zero();  // the cameras' mean centre
+  std::vector<uint8_t> point_class;                             // PointClass, one per cloud point
+  // The neighbourhood of the DEM square: positions and their index in the cloud.
+  std::vector<Eigen::Vector3d> region;
+  std::vector<int> region_index;
+  std::vector<uint8_t> blunder;            // per region point
+  std::vector<uint8_t> floating, on_face;  // per cloud point (objects along the lines of sight)
+  // Region points that are no blunder and no sight-line object, and those objects.
+  std::vector<Eigen::Vector3d> kept, seen_objects;
+  std::vector<int> kept_index;
+  std::vector<uint8_t> ground_of_kept;                   // ground filter's verdict per kept point
+  KrigingPoints ground;                                  // the ground points, in the DEM's frame
+  Eigen::Vector2d station_xy = Eigen::Vector2d::Zero();  // the mark, in the DEM's frame
+  Eigen::Vector3d mark_dem = Eigen::Vector3d::Zero();
+  KrigingResult kriged;
+  double coverage_30m = 0.0, coverage_square = 0.0;
+  TerrainCorrection terrain_correction;
+};
+
+bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool FindObjectsAlongSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s);
+
+}  // namespace ts

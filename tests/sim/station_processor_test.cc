@@ -1,0 +1,130 @@
+// The incremental station against `process` on a rendered station: pairs handed in one by one,
+// in capture order (an upper pose right after its row pose), give the same products to the bit
+// as the station processed at once; a cancelled or failed job says which step stopped it and
+// keeps what the steps before it did.
+#include "processing/pipeline/station_processor.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+
+#include "processing/io/raster.h"
+#include "sim/sim_station.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+class StationProcessorTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir;
+    sim::SimStationOptions options;
+    options.scene = "slope";  // uphill: upper poses, captured out of index order
+    options.seed = 3;
+    const auto station = *sim::BuildSimStation(options);
+    sim::StationRenderOptions render;
+    render.plan.azimuths = 4;  // each test case renders anew (ctest): keep it small
+    ASSERT_TRUE(sim::RenderStationDirectory(*station, render, *dir_ / "st", *dir_ / "truth").ok());
+    process_.calibration_file = *dir_ / "truth/calibration.yaml";
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  // A copy of the rendered station without products, for one run.
+  static std::string Copy(const std::string& name) {
+    const std::string to = *dir_ / name;
+    std::filesystem::copy(*dir_ / "st", to, std::filesystem::copy_options::recursive);
+    std::filesystem::remove_all(to + "/products");
+    return to;
+  }
+  static testing::TempDir* dir_;
+  static ProcessOptions process_;
+};
+testing::TempDir* StationProcessorTest::dir_ = nullptr;
+ProcessOptions StationProcessorTest::process_;
+
+void ExpectSameRaster(const Raster& a, const Raster& b) {
+  ASSERT_EQ(a.values.size(), b.values.size());
+  EXPECT_EQ(a.min_x_m, b.min_x_m);
+  EXPECT_EQ(0, std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)));
+}
+
+TEST_F(StationProcessorTest, PairsHandedInGiveTheProductsOfProcessToTheBit) {
+  const Result<ProcessResult> batch = ProcessStation(Copy("batch"), process_);
+  ASSERT_TRUE(batch) << batch.error();
+
+  const std::string dir = Copy("incremental");
+  const StationManifest manifest = *LoadStationManifest(dir);
+  ASSERT_GT(manifest.plan.size(), 4u) << "no upper pose: the order would not be tested";
+  StationInputs inputs;
+  inputs.dir = dir;
+  inputs.manifest = manifest;
+  StationProcessor processor(dir, process_);
+  std::vector<PairRecord> capture_order = manifest.pairs;  // as the capture committed them
+  for (const PairRecord& p : capture_order) {
+    const Result<StereoPairImages> images = LoadPairImages(inputs, p);
+    ASSERT_TRUE(images) << images.error();
+    processor.AddPair(p, images->left, images->right);
+  }
+  const Result<ProcessResult> incremental = processor.Finish();
+  ASSERT_TRUE(incremental) << incremental.error();
+  EXPECT_EQ(incremental->summary.Find("matching")->counts["matched_during_capture"].get<int>(),
+            static_cast<int>(manifest.pairs.size()));
+  ExpectSameRaster(batch->dem, incremental->dem);
+  ExpectSameRaster(batch->dem_std, incremental->dem_std);
+  EXPECT_EQ(batch->cloud.size(), incremental->cloud.size());
+  EXPECT_EQ(batch->point_class, incremental->point_class);
+  EXPECT_EQ(batch->terrain_correction.total_mgal, incremental->terrain_correction.total_mgal);
+  // The report says how to reproduce it.
+  const nlohmann::json& r = incremental->report;
+  EXPECT_EQ(r["calibration"]["source"], process_.calibration_file);
+  EXPECT_EQ(r["calibration"]["sha256"].get<std::string>().size(), 64u);
+  EXPECT_FALSE(r["software"]["version"].get<std::string>().empty());
+  EXPECT_EQ(r["options"]["kriging"]["max_distance_m"].get<double>(), 5.5);
+  EXPECT_EQ(r["options"]["matching"]["lsm"]["half_window_px"].get<double>(), 8);
+  for (const char* step :
+       {"load", "matching", "blunder_filter", "sight_line_objects", "ground_filter",
+        "underside_patches", "kriging", "horizon_limit", "terrain_correction", "products"})
+    EXPECT_TRUE(r["timings_s"].contains(step)) << step;
+}
+
+// One test case for both (each case renders the station again under ctest).
+TEST_F(StationProcessorTest, ACancelledOrFailedJobSaysWhichStepStoppedIt) {
+  {  // cancelled once matching has started: it stops between pairs
+    const std::string dir = Copy("cancelled");
+    std::atomic<int> steps_started{0};
+    ProcessControl control;
+    control.progress = [&](const ProcessProgress& p) {
+      if (p.step_number > steps_started) steps_started = p.step_number;
+    };
+    control.should_stop = [&] { return steps_started >= 2; };
+    StationProcessor processor(dir, process_, control);
+    const Result<ProcessResult> r = processor.Finish();
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error(), "cancelled during matching");
+    EXPECT_EQ(processor.summary().Find("load")->state, StepSummary::State::kSucceeded);
+    EXPECT_EQ(processor.summary().termination, ProcessSummary::Termination::kCancelled);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/products/report.json"));
+  }
+  {  // a square with no matched point in it
+    const std::string dir = Copy("failed");
+    ProcessOptions options = process_;
+    options.dem_half_size_m = 5;
+    options.cloud_margin_m = 0;
+    options.matching.min_depth_m = 60;  // only far ground is matched
+    StationProcessor processor(dir, options);
+    const Result<ProcessResult> r = processor.Finish();
+    ASSERT_FALSE(r);
+    const ProcessSummary& s = processor.summary();
+    EXPECT_EQ(s.termination, ProcessSummary::Termination::kFailed);
+    const StepSummary* blunders = s.Find("blunder_filter");
+    ASSERT_NE(blunders, nullptr);
+    EXPECT_EQ(blunders->state, StepSummary::State::kFailed);
+    EXPECT_NE(r.error().find("no point within"), std::string::npos) << r.error();
+    EXPECT_GT(s.Find("matching")->counts["points"].get<int>(), 0);
+    EXPECT_EQ(s.Find("kriging"), nullptr);  // never started
+  }
+}
+
+}  // namespace
+}  // namespace ts
