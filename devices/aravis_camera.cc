@@ -150,9 +150,10 @@ class AravisCamera : public Camera {
 
   Status Trigger() override {
     if (!camera_ || !stream_) return Error{Describe() + ": not started"};
-    // Frames from an earlier trigger that arrived late would be mistaken for this one.
-    while (ArvBuffer* stale = arv_stream_try_pop_buffer(stream_))
-      arv_stream_push_buffer(stream_, stale);
+    // Frames that began before this moment belong to an earlier trigger (late ones) or to
+    // none (the free frame some devices send at AcquisitionStart): WaitFrame drops them. The
+    // clock is the one Aravis stamps a buffer with at its first packet (g_get_real_time).
+    triggered_at_ns_ = static_cast<guint64>(g_get_real_time()) * 1000;
     if (settings_.hardware_trigger) return {};
     GError* error = nullptr;
     arv_camera_software_trigger(camera_, &error);

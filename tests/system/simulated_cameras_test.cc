@@ -83,6 +83,23 @@ TEST_F(SimulatedCameras, TriggeredFramesEqualTheOfflineRender) {
   }
 }
 
+// A frame that began before the trigger we wait for is an earlier one, arrived late: dropped.
+// Frame B is triggered and left in the stream; the next wait, after trigger C, must return C.
+TEST_F(SimulatedCameras, AFrameOlderThanItsTriggerIsDropped) {
+  auto server = SimServer::Start(station_, Options(15134));
+  ASSERT_TRUE(server.ok()) << server.error();
+  auto camera = Started("TS-SIM-L", PixelFormat::kMono8, 5000);
+  ASSERT_TRUE(camera.ok()) << camera.error();
+  const Result<Frame> a = Grab(**camera);
+  ASSERT_TRUE(a.ok()) << a.error();
+  ASSERT_TRUE((*camera)->Trigger().ok());  // B, never waited for
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+  ASSERT_TRUE((*camera)->Trigger().ok());  // C
+  const Result<Frame> c = (*camera)->WaitFrame(std::chrono::milliseconds(8000));
+  ASSERT_TRUE(c.ok()) << c.error();
+  EXPECT_EQ(c->frame_id, a->frame_id + 2) << "the late frame B was taken for C";
+}
+
 // The fake camera's gain is the integer GainRaw (0-10); the simulator reads it as dB.
 TEST_F(SimulatedCameras, Mono16ExposureAndGainAreHonoured) {
   auto server = SimServer::Start(station_, Options(15131));
