@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/log.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
@@ -116,7 +117,9 @@ class Sequencer {
       Result<Frame> l = tl ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tl.error()});
       Result<Frame> r = tr ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tr.error()});
       if (l && r) {
-        summary_->resent_packets += l->statistics.resent_packets + r->statistics.resent_packets;
+        const uint64_t resent = l->statistics.resent_packets + r->statistics.resent_packets;
+        if (resent > 0) Log().info("{}: {} GVSP packets lost and resent", PairName(index), resent);
+        summary_->resent_packets += resent;
         return std::pair{std::move(*l), std::move(*r)};
       }
       last_error = !l ? l.error() : r.error();
@@ -156,6 +159,11 @@ class Sequencer {
   }
 
   void Emit(const CaptureEvent& e) {
+    if (e.kind == CaptureEventKind::kRetake)
+      Log().info("{} retaken: {}", PairName(e.pair), e.message);
+    if (e.kind == CaptureEventKind::kFrameRetry)
+      Log().warn("{} triggered again: {}", PairName(e.pair), e.message);
+    if (e.kind == CaptureEventKind::kUpperPose) Log().info("{}: {}", PairName(e.pair), e.message);
     if (progress_) progress_(e);
   }
 

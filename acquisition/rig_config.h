@@ -13,8 +13,8 @@
 //             rs485: false, unit_id: 1}
 #include <string>
 
+#include "core/result.h"
 #include "devices/endpoints.h"
-#include "processing/common/result.h"
 #include "processing/geometry/calibration.h"
 
 namespace ts {

@@ -12,8 +12,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "processing/common/result.h"
-#include "processing/io/image_file.h"
+#include "core/pixel_format.h"
+#include "core/result.h"
 
 namespace ts {
 

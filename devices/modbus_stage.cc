@@ -6,7 +6,8 @@
 #include <cmath>
 #include <thread>
 
-#include "processing/common/stage_registers.h"
+#include "core/log.h"
+#include "core/stage_registers.h"
 
 namespace ts {
 
@@ -205,6 +206,9 @@ class ModbusStage : public Stage {
       if (last_errno != EMBBADCRC && last_errno != ETIMEDOUT && last_errno != EMBBADDATA &&
           last_errno != EMBBADEXC && last_errno != EMBUNKEXC)
         break;
+      if (attempt < options_.retries)
+        Log().info("{}: {} of register 0x{} failed ({}), retrying", description_, what,
+                   Hex(address), modbus_strerror(last_errno));
     }
     return Error{description_ + ": " + what + " of register 0x" + Hex(address) + " failed after " +
                  std::to_string(options_.retries + 1) +
@@ -262,11 +266,15 @@ Result<std::unique_ptr<Stage>> OpenModbusStage(const StageEndpoint& e,
     return Error{description + ": cannot connect: " + err};
   }
   if (e.transport == StageTransport::kRtu && e.rs485 &&
-      modbus_rtu_set_serial_mode(ctx, MODBUS_RTU_RS485) != 0 && errno != ENOTTY) {
+      modbus_rtu_set_serial_mode(ctx, MODBUS_RTU_RS485) != 0) {
     const std::string err = modbus_strerror(errno);
-    modbus_close(ctx);
-    modbus_free(ctx);
-    return Error{description + ": cannot switch to RS-485: " + err};
+    if (errno == ENOTTY) {  // a pseudo-terminal or an adapter without the ioctl: RS-232 framing
+      Log().warn("{}: cannot switch to RS-485 ({}); going on without it", description, err);
+    } else {
+      modbus_close(ctx);
+      modbus_free(ctx);
+      return Error{description + ": cannot switch to RS-485: " + err};
+    }
   }
   return std::unique_ptr<Stage>(new ModbusStage(ctx, description, options));
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The stage over Modbus (libmodbus): RTU on a serial line or TCP, the register map of
-// processing/common/stage_registers.h. libmodbus never re-sends a request, so every
+// core/stage_registers.h. libmodbus never re-sends a request, so every
 // transaction is retried here on a CRC error, a timeout or a garbled reply; moves are absolute
 // and idempotent, so a retried write is harmless, and each is confirmed by reading back.
 #include <memory>

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "processing/common/result.h"
-#include "processing/geometry/capture_plan.h"
+#include "core/result.h"
+#include "core/stage_pose.h"
 
 namespace ts {
 

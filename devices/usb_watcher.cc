@@ -112,4 +112,25 @@ UsbWatcher::~UsbWatcher() {
   if (context_) libusb_exit(context_);
 }
 
+Result<std::vector<UsbDeviceInfo>> ListUsbDevices() {
+  libusb_context* ctx = nullptr;
+  if (const int rc = libusb_init(&ctx); rc != 0)
+    return Error{std::string("USB: cannot initialise libusb: ") + libusb_error_name(rc)};
+  libusb_device** devices = nullptr;
+  const ssize_t n = libusb_get_device_list(ctx, &devices);
+  std::vector<UsbDeviceInfo> list;
+  for (ssize_t i = 0; i < n; ++i) {
+    libusb_device_descriptor d;
+    if (libusb_get_device_descriptor(devices[i], &d) != 0) continue;
+    list.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(devices[i]),
+                    libusb_get_device_address(devices[i])});
+  }
+  if (n >= 0) libusb_free_device_list(devices, 1);
+  libusb_exit(ctx);
+  if (n < 0)
+    return Error{std::string("USB: cannot list devices: ") +
+                 libusb_error_name(static_cast<int>(n))};
+  return list;
+}
+
 }  // namespace ts

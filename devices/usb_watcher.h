@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 
 struct libusb_context;
 
@@ -29,6 +29,13 @@ struct UsbMatch {
 
 // "0403:6001" or "0403:6001:FT12345" (hex ids); error names the part that is wrong.
 Result<UsbMatch> ParseUsbMatch(const std::string& name, const std::string& spec);
+
+// Every USB device on the buses now (for `topostation devices`), in libusb's order.
+struct UsbDeviceInfo {
+  uint16_t vendor_id = 0, product_id = 0;
+  int bus = 0, address = 0;
+};
+Result<std::vector<UsbDeviceInfo>> ListUsbDevices();
 
 struct UsbEvent {
   std::string name;  // the match's name

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/geometry/theoretical_accuracy.h"
 
 namespace ts {

@@ -1,12 +1,12 @@
 // topostation devices: the cameras Aravis discovers, the USB devices and the serial ports.
-#include <libusb-1.0/libusb.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "core/log.h"
 #include "devices/aravis_camera.h"
+#include "devices/usb_watcher.h"
 #include "station/commands.h"
 
 namespace ts {
@@ -14,21 +14,16 @@ namespace {
 
 nlohmann::json UsbDevices() {
   nlohmann::json list = nlohmann::json::array();
-  libusb_context* ctx = nullptr;
-  if (libusb_init(&ctx) != 0) return list;
-  libusb_device** devices = nullptr;
-  const ssize_t n = libusb_get_device_list(ctx, &devices);
-  for (ssize_t i = 0; i < n; ++i) {
-    libusb_device_descriptor d;
-    if (libusb_get_device_descriptor(devices[i], &d) != 0) continue;
-    char id[16];
-    std::snprintf(id, sizeof(id), "%04x:%04x", d.idVendor, d.idProduct);
-    list.push_back({{"vid_pid", id},
-                    {"bus", libusb_get_bus_number(devices[i])},
-                    {"address", libusb_get_device_address(devices[i])}});
+  const Result<std::vector<UsbDeviceInfo>> devices = ListUsbDevices();
+  if (!devices) {
+    Log().warn("{}", devices.error());
+    return list;
   }
-  if (n >= 0) libusb_free_device_list(devices, 1);
-  libusb_exit(ctx);
+  for (const UsbDeviceInfo& d : *devices) {
+    char id[16];
+    std::snprintf(id, sizeof(id), "%04x:%04x", d.vendor_id, d.product_id);
+    list.push_back({{"vid_pid", id}, {"bus", d.bus}, {"address", d.address}});
+  }
   return list;
 }
 

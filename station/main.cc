@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/log.h"
 #include "processing/common/memory.h"
 #include "station/commands.h"
 #include "station/private_network.h"
@@ -12,6 +13,18 @@ int main(int argc, char** argv) {
   ts::RetainFreedMemory();  // large image buffers are reused, not returned per pair
   CLI::App app{"topostation: stereo-panorama DEMs and terrain correction for gravity stations"};
   app.require_subcommand(1);
+  app.fallthrough();  // -v and -q also after the subcommand's name
+  app.add_flag_function(
+         "-v,--verbose",
+         [](int64_t count) {
+           ts::SetLogLevel(count > 1 ? ts::LogLevel::kDebug : ts::LogLevel::kInfo);
+         },
+         "log retries, resends and retakes (-vv: every step's counts too)")
+      ->trigger_on_parse();
+  app.add_flag_function(
+         "-q,--quiet", [](int64_t) { ts::SetLogLevel(ts::LogLevel::kError); },
+         "log errors only (no warnings)")
+      ->trigger_on_parse();
   ts::AddAccuracyCommand(app);
   ts::AddValidateCommand(app);
   ts::AddSimCommand(app);

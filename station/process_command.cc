@@ -37,7 +37,6 @@ void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
       r["variogram"]["model"].get<std::string>().c_str(),
       100 * r["dem"]["coverage_30m"].get<double>(), 100 * r["dem"]["coverage_square"].get<double>(),
       r["wall_s"].get<double>(), station.c_str());
-  for (const auto& w : r["warnings"]) std::printf("warning: %s\n", w.get<std::string>().c_str());
 }
 
 struct EvaluateArgs {

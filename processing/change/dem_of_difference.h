@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/io/raster.h"
 
 namespace ts {

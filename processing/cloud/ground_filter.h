@@ -21,7 +21,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-#include "processing/common/options.h"
+#include "core/options.h"
 
 namespace ts {
 

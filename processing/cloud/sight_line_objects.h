@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "processing/cloud/point_cloud.h"
-#include "processing/common/options.h"
 
 namespace ts {
 

@@ -32,7 +32,7 @@
 #include <cstdint>
 #include <string>
 #include <vector>
-#include "processing/common/options.h"
+#include "core/options.h"
 
 namespace ts {
 

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/options.h"
+#include "core/options.h"
 #include "processing/dem/variogram.h"
 #include "processing/io/raster.h"
 

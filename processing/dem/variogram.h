@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 #include <vector>
-#include "processing/common/options.h"
+#include "core/options.h"
 
 namespace ts {
 

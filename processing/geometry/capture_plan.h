@@ -14,14 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "core/stage_pose.h"
 #include "processing/geometry/calibration.h"
 
 namespace ts {
-
-struct StagePose {
-  double pan_deg = 0.0;
-  double tilt_deg = 0.0;
-};
 
 struct CapturePlanOptions {
   int azimuths = 12;               // poses per row, evenly spaced over 360 deg

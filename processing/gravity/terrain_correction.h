@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/options.h"
+#include "core/options.h"
 #include "processing/io/raster.h"
 
 namespace ts {

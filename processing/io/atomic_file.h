@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 
 namespace ts {
 

@@ -27,7 +27,7 @@
 //     rig_rotation_opk_deg: [0, 0, 0]
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/geometry/calibration.h"
 #include "processing/io/yaml_map.h"
 

@@ -9,16 +9,6 @@
 
 namespace ts {
 
-const char* PixelFormatName(PixelFormat format) {
-  return format == PixelFormat::kMono8 ? "Mono8" : "Mono16";
-}
-
-Result<PixelFormat> PixelFormatFromName(const std::string& name) {
-  if (name == "Mono8") return PixelFormat::kMono8;
-  if (name == "Mono16") return PixelFormat::kMono16;
-  return Error{"unknown pixel format '" + name + "' (Mono8 or Mono16)"};
-}
-
 Result<std::string> WritePngAtomically(const cv::Mat& image, const std::string& path) {
   if (image.empty() ||
       (image.type() != CV_8UC1 && image.type() != CV_16UC1 && image.type() != CV_8UC3))

@@ -4,13 +4,10 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/pixel_format.h"
+#include "core/result.h"
 
 namespace ts {
-
-enum class PixelFormat { kMono8, kMono16 };
-const char* PixelFormatName(PixelFormat format);  // "Mono8" / "Mono16" (GenICam names)
-Result<PixelFormat> PixelFormatFromName(const std::string& name);
 
 // Encodes as PNG (Mono8, Mono16, or 8-bit BGR for products), writes atomically, returns the SHA-256
 // of the file's bytes.

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/geometry/calibration.h"
 #include "processing/geometry/capture_plan.h"
 #include "processing/io/image_file.h"

@@ -4,7 +4,7 @@
 // checksum mismatch, image of the wrong size or pixel format.
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/io/station_manifest.h"
 
 namespace ts {

@@ -23,7 +23,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <string>
-#include "processing/common/options.h"
+#include "core/options.h"
 
 namespace ts {
 

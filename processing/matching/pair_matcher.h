@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/options.h"
+#include "core/options.h"
 #include "processing/matching/enhance.h"
 #include "processing/matching/forstner.h"
 #include "processing/matching/lsm.h"

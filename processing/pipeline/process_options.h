@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "processing/common/options.h"
+#include "core/options.h"
 
 #include "processing/cloud/ground_filter.h"
 #include "processing/cloud/height_blunder_filter.h"

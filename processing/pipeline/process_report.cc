@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "processing/common/version.h"
+#include "core/version.h"
 #include "processing/dem/variogram.h"
 #include "processing/geometry/theoretical_accuracy.h"
 

@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/dem/georeference.h"
 #include "processing/geometry/calibration.h"
 #include "processing/io/station_manifest.h"

@@ -16,7 +16,7 @@
 #include <optional>
 #include <thread>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/pipeline/process_options.h"
 #include "processing/pipeline/station_steps.h"
 #include "processing/pipeline/step.h"

@@ -3,6 +3,8 @@
 #include <exception>
 #include <sstream>
 
+#include "core/log.h"
+
 namespace ts {
 
 const StepSummary* ProcessSummary::Find(const std::string& name) const {
@@ -93,8 +95,10 @@ bool StepRunner::Run(const std::string& name, const std::function<bool(StepSumma
     s->message = e.what();
   }
   s->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (const std::string& warning : s->warnings) Log().warn("{}", warning);
   if (succeeded) {
     s->state = StepSummary::State::kSucceeded;
+    Log().debug("{}: {:.3f} s {}", name, s->seconds, s->counts.dump());
     return true;
   }
   const bool cancelled = control_.StopRequested();

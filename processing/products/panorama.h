@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "processing/common/options.h"
+#include "core/options.h"
 #include "processing/geometry/calibration.h"
 #include "processing/matching/station_matching.h"
 

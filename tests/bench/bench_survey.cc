@@ -5,7 +5,9 @@
 // the DEM against the truth. bench_dem processes stations the simulator renders directly; a
 // capture differs from them in its exposures and noise, and its DEM by a few points of
 // coverage, so the DEM targets are checked here too. `rough` has no targets (none in the
-// issue); its rows show how the pipeline does on rocks, gullies and steps.
+// issue); its rows show how the pipeline does on rocks, gullies and steps. The survey matches
+// each pair while the capture goes on (the incremental station): the products are timed from
+// the last pair's commit.
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -46,7 +48,12 @@ void Survey(const SceneTargets& t, bench::Table* table) {
                square = e["coverage_60m_square"].get<double>();
   table->Add({s + "survey, capture to evaluation", j["survey_s"].get<double>(), "s", ""});
   table->Add({s + "capture", j["capture_s"].get<double>(), "s", ""});
-  table->Add({s + "process", j["process_s"].get<double>(), "s", ""});
+  // Each pair is matched while the stage moves on: what the operator waits for after the last
+  // pair is committed is the station-wide steps (issue 19: at most 1 s).
+  const double after = j["products_after_last_pair_s"].get<double>();
+  table->Add({s + "products after the last pair", after, "s", "<= 1.0", after <= 1.0});
+  table->Add(
+      {s + "station-wide steps (process after capture)", j["process_s"].get<double>(), "s", ""});
   if (t.max_rmse_m) {
     char target[32];
     std::snprintf(target, sizeof target, "<= %.2f", *t.max_rmse_m);

@@ -134,9 +134,9 @@ TEST(PairMatchOptions, BadWindowOptionsAreNamed) {
   std::string why;
   EXPECT_TRUE(PairMatchOptions{}.Check(&why)) << why;
   const std::pair<LsmOptions PairMatchOptions::*, std::string> windows[] = {
-      {&PairMatchOptions::lsm, "lsm: "},
-      {&PairMatchOptions::near_lsm, "near_lsm: "},
-      {&PairMatchOptions::far_lsm, "far_lsm: "}};
+      {&PairMatchOptions::lsm, "lsm.max_sigma_px"},
+      {&PairMatchOptions::near_lsm, "near_lsm.max_sigma_px"},
+      {&PairMatchOptions::far_lsm, "far_lsm.max_sigma_px"}};
   for (const auto& [member, named] : windows) {
     PairMatchOptions o;
     (o.*member).max_sigma_px = -1.0;

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "processing/common/stage_registers.h"
+#include "core/stage_registers.h"
 
 namespace ts::sim {
 namespace {

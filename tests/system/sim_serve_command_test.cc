@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "processing/common/stage_registers.h"
+#include "core/stage_registers.h"
 #include "tests/common/temp_dir.h"
 
 namespace ts {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <thread>
 
-#include "processing/common/stage_registers.h"
+#include "core/stage_registers.h"
 #include "sim/simulated_stage.h"
 
 namespace ts::sim {

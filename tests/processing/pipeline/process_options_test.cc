@@ -1,4 +1,4 @@
-// Each option is declared once (processing/common/options.h): the check names the field by its
+// Each option is declared once (core/options.h): the check names the field by its
 // path and gives its value, and the report's JSON holds every declared field with its default.
 #include "processing/pipeline/process_options.h"
 
