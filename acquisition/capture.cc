@@ -12,16 +12,13 @@
 namespace ts {
 
 bool CaptureOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
   if (!plan.Check(&err) || !exposure.Check(&err)) {
-  } else if (!(initial_exposure_us > 0.0)) {
-    err = "initial_exposure_us must be positive";
-  } else if (!(position_tolerance_deg > 0.0) || frame_attempts < 1 || max_retakes < 0) {
-    err = "position tolerance must be positive, frame_attempts >= 1, max_retakes >= 0";
+    if (why) *why = err;
+    return false;
   }
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
+  return true;
 }
 
 namespace {

@@ -20,6 +20,7 @@
 
 #include "acquisition/exposure_control.h"
 #include "acquisition/rig_config.h"
+#include "core/exposure.h"
 #include "devices/camera.h"
 #include "devices/stage.h"
 #include "processing/geometry/capture_plan.h"
@@ -30,7 +31,7 @@ namespace ts {
 struct CaptureOptions {
   CapturePlanOptions plan;
   ExposureOptions exposure;
-  double initial_exposure_us = 8000.0;
+  double initial_exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;
   PixelFormat format = PixelFormat::kMono8;
   double position_tolerance_deg = 0.05;
@@ -40,6 +41,24 @@ struct CaptureOptions {
   int frame_attempts = 3;  // triggers per pair before a camera counts as lost
   int max_retakes = 4;     // exposure corrections per pair
   std::chrono::milliseconds reconnect_budget{6000};
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("initial_exposure_us", self.initial_exposure_us,
+      {"exposure of the first pair", "us", 1, 10000000});
+    v("gain_db", self.gain_db, {"camera gain", "dB", 0, 48});
+    v("format", self.format, {"pixel format (0 Mono8, 1 Mono16)"});
+    v("position_tolerance_deg", self.position_tolerance_deg,
+      {"a pose is reached within this", "deg", 0.001, 5});
+    v("home_timeout", self.home_timeout, {"homing may take this long", "ms", 1000, 600000});
+    v("move_timeout", self.move_timeout, {"a move may take this long", "ms", 1000, 600000});
+    v("frame_timeout", self.frame_timeout, {"a frame may take this long", "ms", 100, 120000});
+    v("frame_attempts", self.frame_attempts,
+      {"triggers per pair before a camera counts as lost", "", 1, 100});
+    v("max_retakes", self.max_retakes, {"exposure corrections per pair", "", 0, 100});
+    v("reconnect_budget", self.reconnect_budget, {"time to reopen a lost camera", "ms", 0, 600000});
+    v.Group("plan", self.plan);
+    v.Group("exposure", self.exposure);
+  }
   bool Check(std::string* why) const;
 };
 

@@ -6,10 +6,12 @@
 namespace ts {
 
 bool ExposureOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   if (0.0 < min_mean && min_mean < target_mean && target_mean < max_mean && max_mean < 1.0 &&
       max_clipped > 0.0 && 0.0 < min_exposure_us && min_exposure_us < max_exposure_us)
     return true;
-  if (why) *why = "need 0 < min_mean < target_mean < max_mean < 1 and a valid exposure range";
+  if (why)
+    *why = "need 0 < min_mean < target_mean < max_mean < 1 and min_exposure_us < max_exposure_us";
   return false;
 }
 

@@ -6,6 +6,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/options.h"
+
 namespace ts {
 
 struct ExposureOptions {
@@ -15,6 +17,15 @@ struct ExposureOptions {
   double max_clipped = 0.02;  // fraction of saturated pixels that triggers a retake
   double min_exposure_us = 20.0;
   double max_exposure_us = 500000.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("target_mean", self.target_mean, {"mean grey of the ground, of full scale", "", 0.01, 0.99});
+    v("min_mean", self.min_mean, {"darker: retaken brighter", "", 0, 1});
+    v("max_mean", self.max_mean, {"brighter: retaken darker", "", 0, 1});
+    v("max_clipped", self.max_clipped, {"share of saturated pixels that retakes", "", 1e-6, 1});
+    v("min_exposure_us", self.min_exposure_us, {"shortest exposure", "us", 1, 10000000});
+    v("max_exposure_us", self.max_exposure_us, {"longest exposure", "us", 1, 10000000});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/exposure.h"
 #include "core/pixel_format.h"
 #include "core/result.h"
 
@@ -21,7 +22,7 @@ struct CameraSettings {
   int width_px = 0;   // 0: the sensor's full width
   int height_px = 0;  // 0: the sensor's full height
   PixelFormat format = PixelFormat::kMono8;
-  double exposure_us = 8000.0;
+  double exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;
   bool hardware_trigger = false;  // Line1 rising edge instead of software trigger
   int packet_size_bytes = 0;      // GigE Vision packet size; 0 = negotiate

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/geometry/calibration.h"
 
 namespace ts::sim {

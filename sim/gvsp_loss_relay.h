@@ -14,7 +14,7 @@
 #include <string>
 #include <thread>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 
 namespace ts::sim {
 

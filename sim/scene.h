@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 
 namespace ts::sim {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "sim/faults.h"
 #include "sim/sim_station.h"
 #include "sim/simulated_camera.h"

@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/exposure.h"
+#include "core/result.h"
 #include "processing/geometry/capture_plan.h"
 #include "processing/io/image_file.h"
 #include "sim/renderer.h"
@@ -45,7 +46,7 @@ struct FrameRequest {
   Side side = Side::kLeft;
   double pan_deg = 0.0;  // encoder readings
   double tilt_deg = 0.0;
-  double exposure_us = 8000.0;
+  double exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;
   PixelFormat format = PixelFormat::kMono8;
   RenderOptions render;
@@ -56,7 +57,7 @@ cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRe
                     cv::Mat* range_m = nullptr);
 
 struct StationRenderOptions {
-  double exposure_us = 8000.0;
+  double exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;
   PixelFormat format = PixelFormat::kMono8;
   RenderOptions render;

@@ -17,7 +17,8 @@
 #include <thread>
 #include <tuple>
 
-#include "processing/common/result.h"
+#include "core/exposure.h"
+#include "core/result.h"
 #include "sim/gvsp_loss_relay.h"
 #include "sim/sim_station.h"
 
@@ -77,7 +78,7 @@ class SimulatedCamera {
   cv::Mat cached_;
   bool prerender_wanted_ = false;
   StagePose prerender_pose_;
-  unsigned last_exposure_us_ = 8000, last_gain_ = 0;
+  unsigned last_exposure_us_ = static_cast<unsigned>(kDefaultExposureUs), last_gain_ = 0;
   PixelFormat last_format_ = PixelFormat::kMono8;
   bool quit_ = false;
   std::thread prerender_thread_;

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "processing/common/stage_registers.h"
+#include "core/stage_registers.h"
 #include "sim/noise.h"
 
 namespace ts::sim {

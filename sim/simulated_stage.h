@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/geometry/capture_plan.h"
 #include "sim/stage_dynamics.h"
 

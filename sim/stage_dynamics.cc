@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "processing/common/stage_registers.h"
+#include "core/stage_registers.h"
 
 namespace ts::sim {
 

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "processing/common/result.h"
+#include "core/result.h"
 #include "processing/io/raster.h"
 #include "sim/scene.h"
 #include "sim/sim_rig.h"

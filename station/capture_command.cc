@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acquisition/capture.h"
+#include "core/exposure.h"
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
 #include "station/commands.h"
@@ -23,7 +24,7 @@ struct CaptureArgs {
   bool json = false;
   bool mono16 = false;
   int azimuths = 12;
-  double exposure_us = 8000.0;
+  double exposure_us = kDefaultExposureUs;
   bool single_row = false;
 };
 
@@ -93,7 +94,9 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "station directory")->required();
   cmd->add_flag("--resume", args->resume, "complete an interrupted station");
   cmd->add_option("--azimuths", args->azimuths, "poses in the panorama (default 12)");
-  cmd->add_option("--exposure-us", args->exposure_us, "starting exposure (default 8000)");
+  cmd->add_option("--exposure-us", args->exposure_us,
+                  "starting exposure (us, default " +
+                      std::to_string(static_cast<int>(kDefaultExposureUs)) + ")");
   cmd->add_flag("--mono16", args->mono16, "16-bit images");
   cmd->add_flag("--single-row", args->single_row,
                 "no poses higher up where the terrain goes on above a view");

@@ -15,6 +15,7 @@
 #include "processing/io/raster.h"
 #include "station/commands.h"
 #include "station/dem_input.h"
+#include "station/option_flags.h"
 #include "station/progress_display.h"
 
 namespace ts {
@@ -52,10 +53,10 @@ struct GroundFilterArgs {
 };
 
 void RunGroundFilter(const GroundFilterArgs& args) {
-  Result<std::vector<Eigen::Vector3d>> points = ReadPointCloudXyz(args.in);
-  if (!points) throw CommandError(points.error());
   std::string why;
   if (!args.options.Check(&why)) throw CommandError("ground-filter: " + why);
+  Result<std::vector<Eigen::Vector3d>> points = ReadPointCloudXyz(args.in);
+  if (!points) throw CommandError(points.error());
   const GroundFilterResult r = FilterGround(*points, args.options);
   std::vector<Eigen::Vector3d> ground;
   for (size_t i = 0; i < points->size(); ++i)
@@ -150,16 +151,12 @@ void AddProcessCommands(CLI::App& app) {
   auto process = std::make_shared<ProcessArgs>();
   CLI::App* p = app.add_subcommand("process", "Turn a captured station into its DEM and products");
   p->add_option("station", process->station, "station directory")->required();
-  p->add_option("--calibration", process->options.calibration_file,
-                "calibration YAML (default: the one recorded in station.json)");
-  p->add_option("--gcps", process->options.gcp_file,
-                "ground control points (YAML with crs and points): DEM in that CRS");
-  p->add_option("--half-size-m", process->options.dem_half_size_m,
-                "the DEM square's half side (default 30)");
-  p->add_option("--max-distance-m", process->options.kriging.max_distance_m,
-                "nodata where the nearest ground point is farther (default 5.5)");
-  p->add_option("--object-shadow-reach-m", process->options.horizon.object_shadow_reach_m,
-                "the same, in the shadow of a tree or bush (default 7; 0: as elsewhere)");
+  AddDeclaredOption(p, "--calibration", process->options, "calibration_file");
+  AddDeclaredOption(p, "--gcps", process->options, "gcp_file");
+  AddDeclaredOption(p, "--half-size-m", process->options, "dem_half_size_m");
+  AddDeclaredOption(p, "--max-distance-m", process->options, "kriging.max_distance_m");
+  AddDeclaredOption(p, "--object-shadow-reach-m", process->options,
+                    "horizon.object_shadow_reach_m");
   p->add_flag("--json", process->json, "print the report as JSON");
   p->callback([process] {
     const nlohmann::json r = ProcessOrThrow(process->station, process->options,
@@ -192,12 +189,10 @@ void AddProcessCommands(CLI::App& app) {
       "Keep the bare-earth points of a cloud (.pcd or .ply), coordinates unchanged");
   g->add_option("in", ground->in, "input cloud (.pcd or .ply)")->required();
   g->add_option("--out", ground->out, "output PLY of the ground points")->required();
-  g->add_option("--cell-m", ground->options.cell_m, "grid cell (default 1)");
-  g->add_option("--slope", ground->options.slope, "steepest terrain slope kept (default 0.15)");
-  g->add_option("--window-m", ground->options.max_window_m,
-                "largest opening radius, wider than any object (default 18)");
-  g->add_option("--threshold-m", ground->options.elevation_threshold_m,
-                "height above the ground surface still ground (default 0.5)");
+  AddDeclaredOption(g, "--cell-m", ground->options, "cell_m");
+  AddDeclaredOption(g, "--slope", ground->options, "slope");
+  AddDeclaredOption(g, "--window-m", ground->options, "max_window_m");
+  AddDeclaredOption(g, "--threshold-m", ground->options, "elevation_threshold_m");
   g->callback([ground] { RunGroundFilter(*ground); });
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/exposure.h"
 #include "sim/faults.h"
 #include "sim/sim_server.h"
 #include "sim/sim_station.h"
@@ -106,7 +107,9 @@ void AddSimCommand(CLI::App& app) {
       "render", "Write a complete station directory from the renderer, and its ground truth");
   AddSceneOptions(r, &render->scene);
   r->add_option("--out", render->out, "station directory to write")->required();
-  r->add_option("--exposure-us", render->render.exposure_us, "exposure (default 8000)");
+  r->add_option(
+      "--exposure-us", render->render.exposure_us,
+      "exposure (us, default " + std::to_string(static_cast<int>(kDefaultExposureUs)) + ")");
   r->add_option("--gain-db", render->render.gain_db, "gain (default 0)");
   r->add_option("--supersampling", render->render.render.supersampling,
                 "samples per pixel along each axis (default 2)");

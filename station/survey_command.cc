@@ -26,9 +26,9 @@ struct SurveyArgs {
   std::string out;
   std::string truth;
   bool nominal_calibration = false;
-  // Where the simulated ground sits near 60 % of full scale under every scene's sun (the
-  // exposure control keeps a pair between 12 and 75 %). Measured on hills: DEM RMSE 0.193 /
-  // 0.178 m from 4 / 7 ms, a second epoch under another sun 0.211 / 0.195 m.
+  // The simulated ground sits near 60 % of full scale here under every scene's sun, brighter
+  // than kDefaultExposureUs assumes of real daylight (the exposure control keeps a pair between
+  // 12 and 75 % either way; the pair's noise, and so the DEM, differ a little).
   double exposure_us = 7000.0;
   bool single_row = false;
   bool json = false;
@@ -124,7 +124,8 @@ void AddSurveyCommand(CLI::App& app) {
   AddSimStationOptions(s, &args->station);
   s->add_option("--out", args->out, "station directory to create")->required();
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
-  s->add_option("--exposure-us", args->exposure_us, "starting exposure (default 7000)");
+  s->add_option("--exposure-us", args->exposure_us,
+                "starting exposure (us, default 7000: the simulator's ground)");
   s->add_flag("--nominal-calibration", args->nominal_calibration,
               "capture and process with the rig's design values instead of the simulator's true "
               "calibration");

@@ -8,24 +8,13 @@
 namespace ts {
 
 bool CapturePlanOptions::Check(std::string* why) const {
-  std::string err;
-  if (azimuths < 1 || azimuths > 360)
-    err = "azimuths must be in [1, 360]";
-  else if (!std::isfinite(first_pan_deg))
-    err = "first_pan_deg must be finite";
-  else if (!(far_range_m > 0.0) || !std::isfinite(far_range_m))
-    err = "far_range_m must be > 0";
-  else if (!std::isfinite(margin_deg))
-    err = "margin_deg must be finite";
-  else if (!(max_abs_tilt_deg > 0.0 && max_abs_tilt_deg <= 90.0))
-    err = "max_abs_tilt_deg must be in (0, 90]";
-  else if (!(row_overlap_deg >= 0.0 && row_overlap_deg < 20.0))
-    err = "row_overlap_deg must be in [0, 20)";
+  if (!CheckDeclaredOptions(*this, why)) return false;
   for (double t : tilts_deg)
-    if (!std::isfinite(t)) err = "tilts must be finite";
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
+    if (!(std::abs(t) <= max_abs_tilt_deg)) {
+      if (why) *why = "tilts_deg must lie within +-max_abs_tilt_deg";
+      return false;
+    }
+  return true;
 }
 
 double AutomaticTiltDeg(const Calibration& cal, const CapturePlanOptions& o) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "core/stage_pose.h"
 #include "processing/geometry/calibration.h"
 
@@ -30,6 +31,18 @@ struct CapturePlanOptions {
   // capture decides them pose by pose and appends them to the plan.
   bool upper_poses = true;
   double row_overlap_deg = 6.0;  // an upper pose's view overlaps the one below by this much
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("azimuths", self.azimuths, {"poses per row", "", 1, 360});
+    v("first_pan_deg", self.first_pan_deg, {"pan of the first pose", "deg", -360, 360});
+    v("far_range_m", self.far_range_m,
+      {"ground range the top image edge must reach", "m", 1, 1000});
+    v("margin_deg", self.margin_deg, {"the top edge looks this much above it", "deg", -45, 45});
+    v("max_abs_tilt_deg", self.max_abs_tilt_deg, {"stage tilt limit", "deg", 0.1, 90});
+    v("upper_poses", self.upper_poses, {"poses higher up where the terrain goes on above a view"});
+    v("row_overlap_deg", self.row_overlap_deg,
+      {"an upper pose overlaps the one below by this", "deg", 0, 19.99});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -35,6 +35,10 @@ TEST(ProcessCommand, BadInputGivesOneClearError) {
   EXPECT_NE(error_of(dir / "nowhere").find("nowhere"), std::string::npos);
   EXPECT_NE(error_of(s + " --object-shadow-reach-m=-1").find("object_shadow_reach_m"),
             std::string::npos);
+  // Declared ranges: a value no site has is named with its value, before any work.
+  EXPECT_NE(error_of(s + " --max-distance-m 1e9")
+                .find("kriging.max_distance_m must be in [0.1, 50] m, got 1e+09"),
+            std::string::npos);
   std::ofstream(s + "/raw/pair_01_right.png", std::ios::app) << "garbage";
   EXPECT_NE(error_of(s).find("pair_01_right.png"), std::string::npos);
 }
@@ -65,6 +69,12 @@ TEST(GroundFilterCommand, WritesTheGroundPointsUnchanged) {
                               (dir / "x.ply") + " 2>&1");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.out.find("none.pcd"), std::string::npos);
+  // A window no object needs ran without end; now it is refused by its declared range.
+  const auto huge = RunCommand(Exe() + " ground-filter " + in + " --out " + (dir / "x.ply") +
+                               " --window-m 1e9 2>&1");
+  EXPECT_EQ(huge.exit_code, 1);
+  EXPECT_NE(huge.out.find("max_window_m must be in [0.05, 100] m, got 1e+09"), std::string::npos)
+      << huge.out;
 }
 
 }  // namespace

@@ -1,0 +1,62 @@
+#pragma once
+// A command-line flag for a declared option (core/options.h): the flag binds the field itself,
+// and its help is the declaration's, with the unit and the default the field really has, so no
+// help string repeats a default by hand.
+//
+//   AddDeclaredOption(cmd, "--max-distance-m", options, "kriging.max_distance_m");
+#include <CLI/CLI.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "core/options.h"
+
+namespace ts {
+
+class OptionFlagBinder : public OptionPath {
+ public:
+  OptionFlagBinder(CLI::App* app, std::string flag, std::string path)
+      : app_(app), flag_(std::move(flag)), path_(std::move(path)) {}
+  template <class T>
+  void operator()(const char* name, T& field, const OptionInfo& info) {
+    if (Path(name) != path_) return;
+    std::ostringstream help;
+    help << info.help << " (";
+    if constexpr (std::is_same_v<T, bool>)
+      help << "default " << (field ? "on" : "off");
+    else if constexpr (std::is_same_v<T, std::string>)
+      help << "default '" << field << "'";
+    else
+      help << (*info.unit ? std::string(info.unit) + ", " : "") << "default " << field;
+    help << ")";
+    if constexpr (std::is_same_v<T, bool>)
+      option = app_->add_flag(flag_, field, help.str());
+    else
+      option = app_->add_option(flag_, field, help.str());
+  }
+  template <class Sub>
+  void Group(const char* name, Sub& sub) {
+    groups_.push_back(name);
+    Sub::Declare(sub, *this);
+    groups_.pop_back();
+  }
+  CLI::Option* option = nullptr;
+
+ private:
+  CLI::App* app_;
+  std::string flag_, path_;
+};
+
+// The flag for options' field at path ("kriging.max_distance_m"); a path that names no
+// declared field is a programming error (thrown at start-up, caught by every command test).
+template <class Options>
+CLI::Option* AddDeclaredOption(CLI::App* app, const std::string& flag, Options& options,
+                               const std::string& path) {
+  OptionFlagBinder binder(app, flag, path);
+  Options::Declare(options, binder);
+  if (!binder.option) throw std::logic_error(flag + ": no declared option " + path);
+  return binder.option;
+}
+
+}  // namespace ts
