@@ -253,7 +253,8 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   if (Status s = stage.StartMove(m->plan[missing[0]]); !s) return Error{s.error()};
   for (size_t k = 0; k < missing.size(); ++k) {
     const int index = missing[k];
-    seq.Emit({CaptureEventKind::kMoving, index, summary.total_pairs, ""});
+    seq.Emit({CaptureEventKind::kMoving, index, summary.total_pairs, "",
+              summary.already_present + summary.captured_now});
     const Result<StagePose> at = stage.WaitInPosition(o.position_tolerance_deg, o.move_timeout);
     if (!at) return Error{at.error() + " (moving to " + PairName(index) + ")"};
     Result<PairFrames> frames = seq.TakePair(index, summary.total_pairs);
@@ -276,8 +277,9 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
         !s)
       return Error{s.error()};
     ++summary.captured_now;
-    seq.Emit({CaptureEventKind::kPairCaptured, index, summary.total_pairs, "", &m->pairs.back(),
-              &frames->left.image, &frames->right.image});
+    seq.Emit({CaptureEventKind::kPairCaptured, index, summary.total_pairs, "",
+              summary.already_present + summary.captured_now, &m->pairs.back(), &frames->left.image,
+              &frames->right.image});
   }
   for (Camera* c : {&left, &right})
     if (Status s = c->Stop(); !s) return Error{s.error()};

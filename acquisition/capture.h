@@ -77,6 +77,7 @@ struct CaptureEvent {
   int pair = -1;  // plan index
   int total = 0;
   std::string message;
+  int captured = 0;  // pairs the station holds (kMoving, kPairCaptured)
   // kPairCaptured: the record just committed and its images (valid during the call only; the
   // images may be shared, never modified), for an incremental station to match at once.
   const PairRecord* record = nullptr;

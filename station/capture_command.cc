@@ -72,7 +72,7 @@ CaptureSummary CaptureOrThrow(const RigConfig& rig, const std::string& out, bool
     const std::string pair = "pair " + std::to_string(e.pair);
     if (e.kind == CaptureEventKind::kStarted) display.Line("capture: " + e.message);
     if (e.kind == CaptureEventKind::kMoving || e.kind == CaptureEventKind::kPairCaptured)
-      display.Count("capture: pair", e.pair + (e.kind == CaptureEventKind::kPairCaptured), e.total);
+      display.Count("capture: pair", e.captured, e.total);
     if (e.kind == CaptureEventKind::kRetake) display.Line(pair + " retaken: " + e.message);
     if (e.kind == CaptureEventKind::kUpperPose) display.Line(pair + ": " + e.message);
     if (e.kind == CaptureEventKind::kFrameRetry)

@@ -38,9 +38,7 @@ nlohmann::json ProcessOrThrow(const std::string& station_dir, const ProcessOptio
                               bool show_progress);
 // The products of a station whose pairs went to `processor` as they were committed.
 nlohmann::json FinishOrThrow(StationProcessor* processor);
-class ProgressDisplay;
-// The progress of a process job on the display (nothing when it is disabled).
-ProcessControl ProgressControl(ProgressDisplay* display);
+
 // products/evaluation.json of a processed station against a truth directory.
 nlohmann::json EvaluateOrThrow(const std::string& station_dir, const std::string& truth_dir);
 // Its two summary lines (DEM errors and coverage; terrain correction against the truth's).

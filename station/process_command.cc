@@ -66,8 +66,7 @@ void RunGroundFilter(const GroundFilterArgs& args) {
               points->size());
 }
 
-}  // namespace
-
+// The progress of a process job on the display (nothing when it is disabled).
 ProcessControl ProgressControl(ProgressDisplay* display) {
   ProcessControl control;
   if (display->enabled())
@@ -79,6 +78,8 @@ ProcessControl ProgressControl(ProgressDisplay* display) {
     };
   return control;
 }
+
+}  // namespace
 
 nlohmann::json ProcessOrThrow(const std::string& station, const ProcessOptions& options,
                               bool show_progress) {

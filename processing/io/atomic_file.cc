@@ -38,6 +38,27 @@ Status FsyncDirectory(const std::filesystem::path& dir) {
   return {};
 }
 
+// tmp, complete and fsync'd, renamed over path; the folder fsync'd. tmp removed on failure.
+Status RenameIntoPlace(const std::string& tmp, const std::string& path) {
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string err = ErrnoText(path, "cannot rename into place");
+    ::unlink(tmp.c_str());
+    return Error{err};
+  }
+  return FsyncDirectory(std::filesystem::path(path).parent_path());
+}
+
+// fsync and close fd (open on tmp); tmp removed on failure.
+Status SyncAndClose(int fd, bool written, const std::string& tmp, const std::string& path) {
+  const bool synced = written && ::fsync(fd) == 0;
+  if (::close(fd) != 0 || !synced) {
+    const std::string err = ErrnoText(path, "cannot write");
+    ::unlink(tmp.c_str());
+    return Error{err};
+  }
+  return {};
+}
+
 }  // namespace
 
 bool IsTemporaryName(const std::string& file_name) {
@@ -51,31 +72,21 @@ std::string TemporaryPathFor(const std::string& path) {
 
 Status PublishAtomically(const std::string& tmp, const std::string& path) {
   const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0 || ::fsync(fd) != 0) {
+  if (fd < 0) {
     const std::string err = ErrnoText(path, "cannot write");
-    if (fd >= 0) ::close(fd);
     ::unlink(tmp.c_str());
     return Error{err};
   }
-  if (::close(fd) != 0 || ::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string err = ErrnoText(path, "cannot rename into place");
-    ::unlink(tmp.c_str());
-    return Error{err};
-  }
-  return FsyncDirectory(std::filesystem::path(path).parent_path());
+  if (Status s = SyncAndClose(fd, true, tmp, path); !s) return s;
+  return RenameIntoPlace(tmp, path);
 }
 
 Status WriteFileAtomically(const std::string& path, std::string_view bytes) {
   const std::string tmp = TemporaryPathFor(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return Error{ErrnoText(path, "cannot create")};
-  const bool written = WriteAll(fd, bytes);
-  if (::close(fd) != 0 || !written) {
-    const std::string err = ErrnoText(path, "cannot write");
-    ::unlink(tmp.c_str());
-    return Error{err};
-  }
-  return PublishAtomically(tmp, path);
+  if (Status s = SyncAndClose(fd, WriteAll(fd, bytes), tmp, path); !s) return s;
+  return RenameIntoPlace(tmp, path);
 }
 
 Result<std::string> ReadWholeFile(const std::string& path) {

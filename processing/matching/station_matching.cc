@@ -11,6 +11,8 @@ MatchedPair MatchPairIntoL(const Calibration& calibration, const Rectification& 
                            const StereoPairImages& p, const PairMatchOptions& options) {
   MatchedPair out;
   out.index = p.index;
+  out.pan_deg = p.pan_deg;
+  out.tilt_deg = p.tilt_deg;
   cv::Mat left, right;
   RectifyPair(r, p.left, p.right, &left, &right);
   const std::vector<StereoMatch> matches =
@@ -18,6 +20,25 @@ MatchedPair MatchPairIntoL(const Calibration& calibration, const Rectification& 
   AppendPairPoints(r, matches, calibration.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg), p.index,
                    &out.cloud);
   return out;
+}
+
+std::vector<MatchedPair> MatchPairsIntoL(const Calibration& calibration, const Rectification& r,
+                                         const std::vector<StereoPairImages>& pairs,
+                                         const PairMatchOptions& options,
+                                         const std::function<bool()>& should_stop,
+                                         const std::function<void()>& pair_done) {
+  std::vector<MatchedPair> matched(pairs.size(), MatchedPair{-1, 0.0, 0.0, {}, {}});
+  cv::parallel_for_(
+      cv::Range(0, static_cast<int>(pairs.size())),
+      [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i) {
+          if (should_stop && should_stop()) return;
+          matched[i] = MatchPairIntoL(calibration, r, pairs[i], options);
+          if (pair_done) pair_done();
+        }
+      },
+      static_cast<double>(pairs.size()));
+  return matched;
 }
 
 StationMatchResult MatchStation(const Calibration& calibration,
@@ -29,21 +50,10 @@ StationMatchResult MatchStation(const Calibration& calibration,
   const auto t0 = std::chrono::steady_clock::now();
   const Rectification r = Rectify(calibration.rig);
   const auto t1 = std::chrono::steady_clock::now();
-  std::vector<PointCloud> clouds(pairs.size());
-  result.pairs.resize(pairs.size());
-  // One pair per task: OpenCV runs the calls inside a task serially, so the cores are not
-  // oversubscribed.
-  cv::parallel_for_(
-      cv::Range(0, static_cast<int>(pairs.size())),
-      [&](const cv::Range& range) {
-        for (int i = range.start; i < range.end; ++i) {
-          MatchedPair m = MatchPairIntoL(calibration, r, pairs[i], options);
-          clouds[i] = std::move(m.cloud);
-          result.pairs[i] = m.summary;
-        }
-      },
-      static_cast<double>(pairs.size()));
-  for (PointCloud& c : clouds) result.cloud.insert(result.cloud.end(), c.begin(), c.end());
+  for (MatchedPair& m : MatchPairsIntoL(calibration, r, pairs, options)) {
+    result.cloud.insert(result.cloud.end(), m.cloud.begin(), m.cloud.end());
+    result.pairs.push_back(m.summary);
+  }
   const auto t2 = std::chrono::steady_clock::now();
   result.rectification_s = std::chrono::duration<double>(t1 - t0).count();
   result.pairs_s = std::chrono::duration<double>(t2 - t1).count();

@@ -26,15 +26,6 @@ nlohmann::json Counts(const ProcessSummary& summary) {
   return counts;
 }
 
-nlohmann::json Steps(const ProcessSummary& summary) {
-  nlohmann::json steps = nlohmann::json::array();
-  for (const StepSummary& s : summary.steps)
-    steps.push_back({{"name", s.name},
-                     {"state", s.state == StepSummary::State::kSucceeded ? "succeeded" : "failed"},
-                     {"seconds", s.seconds}});
-  return steps;
-}
-
 nlohmann::json AccuracyTable(const Calibration& calibration) {
   nlohmann::json accuracy = nlohmann::json::array();
   for (const AccuracyRow& row :
@@ -61,7 +52,6 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   report["terrain_correction_mgal"] = w.terrain_correction.total_mgal;
   report["terrain_correction_sigma_mgal"] = w.terrain_correction.sigma_mgal;
   report["timings_s"] = summary.TimingsJson();
-  report["steps"] = Steps(summary);
   report["wall_s"] = wall_s;
   report["peak_memory_mib"] = PeakMemoryMiB();
   report["counts"] = Counts(summary);

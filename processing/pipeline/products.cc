@@ -67,12 +67,8 @@ bool WriteProducts(const ProcessOptions& o, const StationWork& w, StepSummary* s
     Status done = job->get();
     if (written) written = done;
   }
-  if (!written) {
-    s->message = written.error();
-    return false;
-  }
-  s->counts = {{"files", 6}};
-  return true;
+  if (!written) s->message = written.error();
+  return written.ok();
 }
 
 }  // namespace ts

@@ -1,6 +1,7 @@
 #include "processing/pipeline/station_processor.h"
 
 #include <algorithm>
+#include <atomic>
 
 #include "processing/io/atomic_file.h"
 #include "processing/pipeline/process_report.h"
@@ -22,12 +23,8 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"products", [](const ProcessOptions& o, StationWork* w,
                     StepSummary* s) { return WriteProducts(o, *w, s); }},
 };
-constexpr int kStepCount = 3 + static_cast<int>(std::size(kStationSteps));  // + load, matching,
-                                                                            // report
-
-StereoPairImages PoseOnly(const StereoPairImages& p) {
-  return {p.index, p.pan_deg, p.tilt_deg, {}, {}};
-}
+// With load, matching and report.
+constexpr int kStepCount = 3 + static_cast<int>(std::size(kStationSteps));
 
 }  // namespace
 
@@ -65,9 +62,9 @@ void StationProcessor::Work() {
     busy_ = true;
     lock.unlock();
     const auto t0 = std::chrono::steady_clock::now();
-    std::string error;
-    if (!inputs) {  // the manifest holds the first pair by now: read the calibration as process
-                    // does
+    // The manifest holds the first pair by now: the calibration is read as Finish() reads it.
+    // A pair that cannot be matched here is matched again by Finish(), which says why.
+    if (!inputs) {
       Result<StationInputs> loaded =
           LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file);
       if (loaded) {
@@ -75,19 +72,17 @@ void StationProcessor::Work() {
         rectification = std::make_unique<Rectification>(Rectify(inputs->calibration.rig));
         std::lock_guard relock(mutex_);
         panorama_ = std::make_unique<PanoramaBuilder>(inputs->calibration, options_.panorama);
-      } else {
-        error = loaded.error();
       }
     }
     std::optional<MatchedPair> matched;
-    StereoPairImages images{pending.record.index, pending.record.readback.pan_deg,
-                            pending.record.readback.tilt_deg, pending.left, pending.right};
+    const StereoPairImages images{pending.record.index, pending.record.readback.pan_deg,
+                                  pending.record.readback.tilt_deg, pending.left, pending.right};
     if (inputs) {
       try {
         matched = MatchPairIntoL(inputs->calibration, *rectification, images, options_.matching);
         panorama_->Add({images});  // only this thread adds while it runs
-      } catch (const std::exception& e) {
-        error = e.what();
+      } catch (const std::exception&) {
+        matched.reset();
       }
     }
     const double seconds =
@@ -97,14 +92,16 @@ void StationProcessor::Work() {
     worker_matching_s_ += seconds;
     if (matched) {
       worker_calibration_sha256_ = inputs->calibration_sha256;
-      poses_[images.index] = PoseOnly(images);
       matched_[images.index] = std::move(*matched);
-    } else if (worker_error_.empty()) {
-      worker_error_ = error;  // Finish() matches the pair again and reports what it finds
     }
-    const int done = static_cast<int>(matched_.size());
+    ProcessProgress progress{"matching",
+                             0,
+                             0,
+                             static_cast<int>(matched_.size()),
+                             static_cast<int>(matched_.size() + queue_.size()),
+                             0.0};
     lock.unlock();
-    if (control_.progress) control_.progress({"matching", 0, 0, done, 0, 0.0});
+    if (control_.progress) control_.progress(progress);
     changed_.notify_all();
     lock.lock();
   }
@@ -112,7 +109,7 @@ void StationProcessor::Work() {
   changed_.notify_all();
 }
 
-bool StationProcessor::MatchPairs(StationWork* w, StepSummary* s) {
+bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* s) {
   const StationInputs& in = *w->inputs;
   {  // the pairs handed in are matched, or the worker has stopped
     std::unique_lock lock(mutex_);
@@ -120,58 +117,50 @@ bool StationProcessor::MatchPairs(StationWork* w, StepSummary* s) {
       return (queue_.empty() && !busy_) || stopping_ || control_.StopRequested();
     });
     if (worker_calibration_sha256_ != in.calibration_sha256 || !panorama_) {
-      matched_.clear(), poses_.clear();
+      matched_.clear();
       panorama_ = std::make_unique<PanoramaBuilder>(in.calibration, options_.panorama);
     }
   }
   std::vector<PairRecord> records = in.manifest.pairs;
   std::sort(records.begin(), records.end(),
             [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
-  std::vector<const PairRecord*> missing;
+  std::vector<const PairRecord*> missing;  // not handed in, or at another read-back
   for (const PairRecord& p : records) {
-    auto m = matched_.find(p.index);
-    const bool same_pose = m != matched_.end() && poses_[p.index].pan_deg == p.readback.pan_deg &&
-                           poses_[p.index].tilt_deg == p.readback.tilt_deg;
-    if (!same_pose) missing.push_back(&p);
+    const auto m = matched_.find(p.index);
+    if (m == matched_.end() || m->second.pan_deg != p.readback.pan_deg ||
+        m->second.tilt_deg != p.readback.tilt_deg)
+      missing.push_back(&p);
   }
   const int matched_before = static_cast<int>(records.size() - missing.size());
-  if (!missing.empty()) {  // one pair per task, as MatchStation does
-    const Rectification r = Rectify(in.calibration.rig);
-    std::vector<std::string> errors(missing.size());
-    std::vector<std::optional<MatchedPair>> results(missing.size());
+  if (!missing.empty()) {
     std::vector<StereoPairImages> images(missing.size());
-    cv::parallel_for_(
-        cv::Range(0, static_cast<int>(missing.size())),
-        [&](const cv::Range& range) {
-          for (int i = range.start; i < range.end; ++i) {
-            if (control_.StopRequested()) return;
-            Result<StereoPairImages> loaded = LoadPairImages(in, *missing[i]);
-            if (!loaded) {
-              errors[i] = loaded.error();
-              continue;
-            }
-            results[i] = MatchPairIntoL(in.calibration, r, *loaded, options_.matching);
-            images[i] = std::move(*loaded);
-          }
-        },
-        static_cast<double>(missing.size()));
-    for (size_t i = 0; i < missing.size(); ++i) {
-      if (!errors[i].empty()) {
-        s->message = errors[i];
-        return false;
+    std::vector<std::string> errors(missing.size());
+    cv::parallel_for_(cv::Range(0, static_cast<int>(missing.size())), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        Result<StereoPairImages> loaded = LoadPairImages(in, *missing[i]);
+        if (loaded)
+          images[i] = std::move(*loaded);
+        else
+          errors[i] = loaded.error();
       }
-      if (!results[i]) return false;  // cancelled
-      poses_[missing[i]->index] = PoseOnly(images[i]);
-      matched_[missing[i]->index] = std::move(*results[i]);
-      images[i].right = cv::Mat();  // the panorama needs the left ones
-    }
+    });
+    for (const std::string& e : errors)
+      if (!e.empty()) return s->message = e, false;
+    std::atomic<int> done{matched_before};
+    const int total = static_cast<int>(records.size());
+    std::vector<MatchedPair> results =
+        MatchPairsIntoL(in.calibration, Rectify(in.calibration.rig), images, options_.matching,
+                        control_.should_stop, [&] { run->ReportPairs(++done, total); });
+    if (control_.StopRequested()) return false;
+    for (MatchedPair& m : results) matched_[m.index] = std::move(m);
+    for (StereoPairImages& p : images) p.right = cv::Mat();  // the panorama needs the left ones
     panorama_->Add(images);
   }
   nlohmann::json per_pair = nlohmann::json::array();
   for (const PairRecord& p : records) {
-    MatchedPair& m = matched_.at(p.index);
+    const MatchedPair& m = matched_.at(p.index);
     w->cloud.insert(w->cloud.end(), m.cloud.begin(), m.cloud.end());
-    w->pairs.push_back(poses_.at(p.index));
+    w->pairs.push_back({m.index, m.pan_deg, m.tilt_deg, {}, {}});
     per_pair.push_back({{"pair", p.index},
                         {"interest_points", m.summary.points},
                         {"matched", m.summary.consistent},
@@ -209,7 +198,7 @@ Result<ProcessResult> StationProcessor::Finish() {
     work.inputs = &*inputs;
     return true;
   });
-  run.Run("matching", [&](StepSummary* s) { return MatchPairs(&work, s); });
+  run.Run("matching", [&](StepSummary* s) { return MatchPairs(&run, &work, s); });
   for (const auto& [name, step] : kStationSteps)
     run.Run(name, [&, step = step](StepSummary* s) { return step(options_, &work, s); });
   nlohmann::json report;

@@ -57,8 +57,7 @@ class StationProcessor {
     cv::Mat left, right;
   };
   void Work();
-  void MatchOnWorker(const Pending& pending);
-  bool MatchPairs(StationWork* w, StepSummary* s);
+  bool MatchPairs(StepRunner* run, StationWork* w, StepSummary* s);
 
   const std::string dir_;
   const ProcessOptions options_;
@@ -70,10 +69,8 @@ class StationProcessor {
   std::deque<Pending> queue_;
   bool busy_ = false, stopping_ = false;
   std::map<int, MatchedPair> matched_;         // by pair index
-  std::map<int, StereoPairImages> poses_;      // by pair index, without their images
   std::unique_ptr<PanoramaBuilder> panorama_;  // of the matched pairs
   std::string worker_calibration_sha256_;
-  std::string worker_error_;
   double worker_matching_s_ = 0.0;
   std::thread worker_;
 };

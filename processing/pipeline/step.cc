@@ -1,7 +1,6 @@
 #include "processing/pipeline/step.h"
 
 #include <exception>
-#include <sstream>
 
 #include "core/log.h"
 
@@ -26,30 +25,6 @@ nlohmann::json ProcessSummary::TimingsJson() const {
   return j;
 }
 
-std::string TerminationName(ProcessSummary::Termination t) {
-  switch (t) {
-    case ProcessSummary::Termination::kSucceeded:
-      return "succeeded";
-    case ProcessSummary::Termination::kCancelled:
-      return "cancelled";
-    case ProcessSummary::Termination::kFailed:
-      break;
-  }
-  return "failed";
-}
-
-std::string ProcessSummary::FullReport() const {
-  std::ostringstream out;
-  out << TerminationName(termination) << " in " << wall_s << " s";
-  if (!message.empty()) out << ": " << message;
-  for (const StepSummary& s : steps) {
-    out << "\n  " << s.name << ": " << s.seconds << " s";
-    if (!s.counts.empty()) out << " " << s.counts.dump();
-    if (!s.message.empty()) out << " (" << s.message << ")";
-  }
-  return out.str();
-}
-
 StepRunner::StepRunner(const ProcessControl& control, int step_count, ProcessSummary* summary)
     : control_(control), summary_(summary) {
   progress_.step_count = step_count;
@@ -61,13 +36,17 @@ double StepRunner::elapsed_s() const {
 
 void StepRunner::Emit() {
   if (!control_.progress) return;
+  std::lock_guard lock(progress_mutex_);
   progress_.elapsed_s = elapsed_s();
   control_.progress(progress_);
 }
 
 void StepRunner::ReportPairs(int done, int total) {
-  progress_.pairs_done = done;
-  progress_.pairs_total = total;
+  {
+    std::lock_guard lock(progress_mutex_);
+    progress_.pairs_done = done;
+    progress_.pairs_total = total;
+  }
   Emit();
 }
 
@@ -84,8 +63,11 @@ bool StepRunner::Run(const std::string& name, const std::function<bool(StepSumma
     ok_ = false;
     return false;
   }
-  ++progress_.step_number;
-  progress_.step = name;
+  {
+    std::lock_guard lock(progress_mutex_);
+    ++progress_.step_number;
+    progress_.step = name;
+  }
   Emit();
   const auto t0 = std::chrono::steady_clock::now();
   bool succeeded = false;

@@ -4,6 +4,7 @@
 // fails or is cancelled; a progress callback; a cancel check asked between steps and pairs.
 #include <chrono>
 #include <functional>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -48,10 +49,7 @@ struct ProcessSummary {
   const StepSummary* Find(const std::string& name) const;
   std::vector<std::string> Warnings() const;  // of every step, in order
   nlohmann::json TimingsJson() const;         // {step: seconds} of the steps that ran
-  std::string FullReport() const;             // one line a step, for a log
 };
-
-std::string TerminationName(ProcessSummary::Termination t);
 
 // Runs named steps in order, timing each and filling its summary; a step reports failure by
 // returning false after setting summary->message (or by throwing: processing code may throw,
@@ -62,13 +60,15 @@ class StepRunner {
   StepRunner(const ProcessControl& control, int step_count, ProcessSummary* summary);
   // false when the step (or an earlier one) failed or the job was cancelled.
   bool Run(const std::string& name, const std::function<bool(StepSummary*)>& step);
-  void ReportPairs(int done, int total);  // progress inside the per-pair step
+  // Progress inside the per-pair step; from any thread (the pair tasks).
+  void ReportPairs(int done, int total);
   bool ok() const { return ok_; }
   double elapsed_s() const;
   void Finish();  // sets the termination and the wall time
 
  private:
   void Emit();
+  std::mutex progress_mutex_;
   const ProcessControl& control_;
   ProcessSummary* summary_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
