@@ -9,19 +9,9 @@
 namespace ts {
 
 bool CameraSettings::Check(std::string* why) const {
-  std::string err;
-  if (width_px < 0 || height_px < 0)
-    err = "image size must not be negative";
-  else if (!(exposure_us > 0.0 && exposure_us <= 1e7))
-    err = "exposure_us must be in (0, 1e7]";
-  else if (!(gain_db >= 0.0 && gain_db <= 48.0))
-    err = "gain_db must be in [0, 48]";
-  else if (stream_buffers < 4)
-    err = "at least 4 stream buffers";
-  else if (packet_size_bytes != 0 && (packet_size_bytes < 576 || packet_size_bytes > 16384))
-    err = "packet_size_bytes must be 0 or in [576, 16384]";
-  if (err.empty()) return true;
-  if (why) *why = err;
+  if (!CheckDeclaredOptions(*this, why)) return false;
+  if (packet_size_bytes == 0 || packet_size_bytes >= 576) return true;
+  if (why) *why = "packet_size_bytes must be 0 or in [576, 16384]";
   return false;
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/exposure.h"
+#include "core/options.h"
 #include "core/pixel_format.h"
 #include "core/result.h"
 
@@ -24,9 +25,21 @@ struct CameraSettings {
   PixelFormat format = PixelFormat::kMono8;
   double exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;
-  bool hardware_trigger = false;  // Line1 rising edge instead of software trigger
-  int packet_size_bytes = 0;      // GigE Vision packet size; 0 = negotiate
-  int stream_buffers = 4;         // at least 4
+  bool hardware_trigger = false;
+  int packet_size_bytes = 0;
+  int stream_buffers = 4;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("width_px", self.width_px, {"image width (0: the sensor's)", "px", 0, 65535});
+    v("height_px", self.height_px, {"image height (0: the sensor's)", "px", 0, 65535});
+    v("format", self.format, {"pixel format (0 Mono8, 1 Mono16)"});
+    v("exposure_us", self.exposure_us, {"exposure", "us", 1, 1e7});
+    v("gain_db", self.gain_db, {"gain", "dB", 0, 48});
+    v("hardware_trigger", self.hardware_trigger, {"Line1 rising edge instead of software trigger"});
+    v("packet_size_bytes", self.packet_size_bytes,
+      {"GigE Vision packet size (0: negotiate)", "bytes", 0, 16384});
+    v("stream_buffers", self.stream_buffers, {"stream buffers", "", 4, 64});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -12,11 +12,7 @@ constexpr double kSkyRadiance = 1.3;  // brighter than any lit ground: clips lik
 constexpr int kMaxRelocations = 6;
 }  // namespace
 
-bool RenderOptions::Check(std::string* why) const {
-  if (supersampling >= 1 && supersampling <= 8) return true;
-  if (why) *why = "supersampling must be in [1, 8]";
-  return false;
-}
+bool RenderOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 
 Renderer::Hit Renderer::Intersect(const Eigen::Vector3d& centre, const Eigen::Vector3d& d,
                                   int32_t triangle) const {

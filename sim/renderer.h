@@ -19,6 +19,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "core/options.h"
+
 #include "processing/geometry/camera_model.h"
 #include "sim/rasterizer.h"
 #include "sim/scene.h"
@@ -28,7 +30,11 @@
 namespace ts::sim {
 
 struct RenderOptions {
-  int supersampling = 2;  // samples per pixel along each axis (2 = 4 samples)
+  int supersampling = 2;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("supersampling", self.supersampling, {"samples per pixel along each axis", "", 1, 8});
+  }
   bool Check(std::string* why) const;
 };
 

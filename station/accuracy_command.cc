@@ -10,6 +10,7 @@
 #include "processing/geometry/theoretical_accuracy.h"
 #include "station/accuracy_plot.h"
 #include "station/commands.h"
+#include "station/option_flags.h"
 
 namespace ts {
 namespace {
@@ -83,11 +84,10 @@ void AddAccuracyCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "accuracy", "Theoretical accuracy (sigma X, Y, Z) against range for a rig, seed 003 eq. 1");
   cmd->add_option("--rig", args->rig_file, "rig config (YAML)")->required();
-  cmd->add_option("--sigma-px", args->options.sigma_parallax_px,
-                  "parallax / image measurement error, px (default 1/3)");
-  cmd->add_option("--min-range-m", args->options.range_min_m, "first range (default 5)");
-  cmd->add_option("--max-range-m", args->options.range_max_m, "last range (default 60)");
-  cmd->add_option("--step-m", args->options.range_step_m, "range step (default 5)");
+  AddDeclaredOption(cmd, "--sigma-px", args->options, "sigma_parallax_px");
+  AddDeclaredOption(cmd, "--min-range-m", args->options, "range_min_m");
+  AddDeclaredOption(cmd, "--max-range-m", args->options, "range_max_m");
+  AddDeclaredOption(cmd, "--step-m", args->options, "range_step_m");
   cmd->add_flag("--at-centre", args->at_centre,
                 "point at the principal point instead of the image corner (worst case)");
   cmd->add_option("--plot", args->plot_png, "PNG plot to write ('' for none)")

@@ -8,10 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include "acquisition/capture.h"
-#include "core/exposure.h"
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
 #include "station/commands.h"
+#include "station/option_flags.h"
 #include "station/progress_display.h"
 
 namespace ts {
@@ -23,18 +23,15 @@ struct CaptureArgs {
   bool resume = false;
   bool json = false;
   bool mono16 = false;
-  int azimuths = 12;
-  double exposure_us = kDefaultExposureUs;
   bool single_row = false;
+  CaptureOptions options;
 };
 
 void Run(const CaptureArgs& args) {
   const Result<RigConfig> rig = LoadRigConfig(args.rig_file);
   if (!rig) throw CommandError(rig.error());
-  CaptureOptions options;
-  options.plan.azimuths = args.azimuths;
+  CaptureOptions options = args.options;
   options.plan.upper_poses = !args.single_row;
-  options.initial_exposure_us = args.exposure_us;
   options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
   const CaptureSummary s =
       CaptureOrThrow(*rig, args.out, args.resume, options, ::isatty(STDERR_FILENO) && !args.json);
@@ -47,12 +44,21 @@ void Run(const CaptureArgs& args) {
                                        {"frame_retries", s.frame_retries},
                                        {"resent_packets", s.resent_packets},
                                        {"exposure_us", s.exposure_us},
-                                       {"seconds", s.seconds}}
+                                       {"seconds", s.seconds},
+                                       {"timeline", s.timeline}}
                             .dump()
                             .c_str());
   } else {
     std::printf("%s: %d of %d pairs captured now (%d already there) in %.1f s\n", args.out.c_str(),
                 s.captured_now, s.total_pairs, s.already_present, s.seconds);
+    if (s.timeline.is_object()) {
+      const nlohmann::json& t = s.timeline["total_s"];
+      std::printf(
+          "  waiting for the stage %.1f s, trigger to frame %.1f s, verify %.1f s, "
+          "write %.1f s (while the stage moves)\n",
+          t.value("stage_wait_s", 0.0), t.value("trigger_to_frame_s", 0.0),
+          t.value("verify_s", 0.0), t.value("write_s", 0.0));
+    }
   }
 }
 
@@ -93,10 +99,8 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--rig", args->rig_file, "rig config (YAML)")->required();
   cmd->add_option("--out", args->out, "station directory")->required();
   cmd->add_flag("--resume", args->resume, "complete an interrupted station");
-  cmd->add_option("--azimuths", args->azimuths, "poses in the panorama (default 12)");
-  cmd->add_option("--exposure-us", args->exposure_us,
-                  "starting exposure (us, default " +
-                      std::to_string(static_cast<int>(kDefaultExposureUs)) + ")");
+  AddDeclaredOption(cmd, "--azimuths", args->options, "plan.azimuths");
+  AddDeclaredOption(cmd, "--exposure-us", args->options, "initial_exposure_us");
   cmd->add_flag("--mono16", args->mono16, "16-bit images");
   cmd->add_flag("--single-row", args->single_row,
                 "no poses higher up where the terrain goes on above a view");

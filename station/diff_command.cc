@@ -14,6 +14,7 @@
 #include "processing/products/dod_image.h"
 #include "station/commands.h"
 #include "station/dem_input.h"
+#include "station/option_flags.h"
 
 namespace ts {
 namespace {
@@ -154,14 +155,10 @@ void AddDiffCommand(CLI::App& app) {
       ->required();
   d->add_option("after", args->after, "later epoch: processed station or DEM GeoTIFF")->required();
   d->add_option("--out", args->out, "directory for the change products")->required();
-  d->add_option("--lod", args->options.lod_m,
-                "fixed level of detection, m (default: per-cell t-test from the std grids)");
-  d->add_option("--t-critical", args->options.t_critical,
-                "t of the per-cell test (default 1.96: 95 %)");
-  d->add_flag("--remove-offset", args->options.remove_stable_offset,
-              "level AFTER on the unchanged ground first (epochs not on one height datum)");
-  d->add_option("--min-area", args->options.min_region_area_m2,
-                "smallest subsidence region listed, m2 (default 4)");
+  AddDeclaredOption(d, "--lod", args->options, "lod_m");
+  AddDeclaredOption(d, "--t-critical", args->options, "t_critical");
+  AddDeclaredOption(d, "--remove-offset", args->options, "remove_stable_offset");
+  AddDeclaredOption(d, "--min-area", args->options, "min_region_area_m2");
   d->add_option("--truth", args->truth,
                 "simulator truth of the later epoch: compare the recovered subsidence with it");
   d->add_flag("--json", args->json, "print change.json to stdout");

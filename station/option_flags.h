@@ -27,6 +27,8 @@ class OptionFlagBinder : public OptionPath {
       help << "default " << (field ? "on" : "off");
     else if constexpr (std::is_same_v<T, std::string>)
       help << "default '" << field << "'";
+    else if constexpr (std::is_enum_v<T>)
+      help << "default " << OptionNumber(field);
     else
       help << (*info.unit ? std::string(info.unit) + ", " : "") << "default " << field;
     help << ")";

@@ -3,17 +3,20 @@
 #include <string>
 #include <vector>
 
+#include "station/option_flags.h"
+
 namespace ts {
 
 void AddSimStationOptions(CLI::App* cmd, sim::SimStationOptions* options) {
-  cmd->add_option("--scene", options->scene,
-                  "built-in scene: flat, hills, slope, rough, forest (default hills)");
-  cmd->add_option("--dem", options->dem_file, "GeoTIFF DEM as terrain instead of a scene");
-  cmd->add_option("--seed", options->seed, "scene and rig seed (default 1)");
-  cmd->add_option("--height-m", options->stage_height_m,
-                  "stage centre above the station mark (default 1.5)");
-  cmd->add_option("--epoch", options->epoch,
-                  "survey epoch of the same site (default 1; later epochs get new sensor noise)");
+  std::string scenes;
+  for (const std::string& name : sim::BuiltinSceneNames())
+    scenes += (scenes.empty() ? "" : ", ") + name;
+  AddDeclaredOption(cmd, "--scene", *options, "scene")
+      ->description("built-in scene: " + scenes + " (default " + options->scene + ")");
+  AddDeclaredOption(cmd, "--dem", *options, "dem_file");
+  AddDeclaredOption(cmd, "--seed", *options, "seed");
+  AddDeclaredOption(cmd, "--height-m", *options, "stage_height_m");
+  AddDeclaredOption(cmd, "--epoch", *options, "epoch");
   cmd->add_option_function<std::vector<double>>(
          "--subsidence",
          [options](const std::vector<double>& v) {

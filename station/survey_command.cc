@@ -14,6 +14,7 @@
 #include "sim/sim_station.h"
 #include "sim/truth.h"
 #include "station/commands.h"
+#include "station/option_flags.h"
 #include "station/private_network.h"
 #include "station/sim_station_options.h"
 
@@ -26,10 +27,7 @@ struct SurveyArgs {
   std::string out;
   std::string truth;
   bool nominal_calibration = false;
-  // The simulated ground sits near 60 % of full scale here under every scene's sun, brighter
-  // than kDefaultExposureUs assumes of real daylight (the exposure control keeps a pair between
-  // 12 and 75 % either way; the pair's noise, and so the DEM, differ a little).
-  double exposure_us = 7000.0;
+  CaptureOptions capture = CaptureOptions::ForSimulatedGround();
   bool single_row = false;
   bool json = false;
 };
@@ -66,8 +64,7 @@ void RunSurvey(const SurveyArgs& args) {
   rig.right_camera.id = serve.right_serial;
   rig.stage.host = serve.stage_address;
   rig.stage.port = serve.stage_port;
-  CaptureOptions capture;
-  capture.initial_exposure_us = args.exposure_us;
+  CaptureOptions capture = args.capture;
   capture.plan.upper_poses = !args.single_row;
 
   ProcessOptions process;
@@ -124,8 +121,7 @@ void AddSurveyCommand(CLI::App& app) {
   AddSimStationOptions(s, &args->station);
   s->add_option("--out", args->out, "station directory to create")->required();
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
-  s->add_option("--exposure-us", args->exposure_us,
-                "starting exposure (us, default 7000: the simulator's ground)");
+  AddDeclaredOption(s, "--exposure-us", args->capture, "initial_exposure_us");
   s->add_flag("--nominal-calibration", args->nominal_calibration,
               "capture and process with the rig's design values instead of the simulator's true "
               "calibration");

@@ -4,12 +4,14 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "processing/gravity/terrain_correction_json.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/raster.h"
 #include "station/commands.h"
 #include "station/dem_input.h"
+#include "station/option_flags.h"
 
 namespace ts {
 namespace {
@@ -18,9 +20,8 @@ struct TerrainCorrectionArgs {
   std::string input;
   std::vector<double> station_xy;
   double station_z = NAN;
-  double sensor_height_m = 0.0;
-  double density_g_cm3 = 2.67;
-  double radius_m = 0.0;
+  TerrainCorrectionOptions options;
+  double density_g_cm3 = options.density_kg_m3 / 1000.0;  // the unit gravimetrists use
   std::string out;
   bool json = false;
 };
@@ -41,10 +42,8 @@ void Run(const TerrainCorrectionArgs& args) {
                          ", " + std::to_string(mark.y()) +
                          " (outside or nodata; give --station-z)");
   }
-  TerrainCorrectionOptions o;
+  TerrainCorrectionOptions o = args.options;
   o.density_kg_m3 = args.density_g_cm3 * 1000.0;
-  o.sensor_height_m = args.sensor_height_m;
-  o.radius_m = args.radius_m;
   std::string why;
   if (!o.Check(&why)) throw CommandError("terrain-correction: " + why);
   const TerrainCorrection tc =
@@ -63,7 +62,7 @@ void Run(const TerrainCorrectionArgs& args) {
   std::printf(
       "terrain correction %.4f +- %.4f mGal (density %.2f g/cm3, sensor %.2f m above the "
       "mark); %s\n",
-      tc.total_mgal, tc.sigma_mgal, args.density_g_cm3, args.sensor_height_m, out.c_str());
+      tc.total_mgal, tc.sigma_mgal, args.density_g_cm3, o.sensor_height_m, out.c_str());
   for (const RingContribution& r : tc.rings)
     if (r.coverage > 0.0)
       std::printf(
@@ -84,10 +83,11 @@ void AddTerrainCorrectionCommand(CLI::App& app) {
   t->add_option("--station", args->station_xy, "X,Y of the station mark (bare DEM)")
       ->delimiter(',');
   t->add_option("--station-z", args->station_z, "height of the mark (default: from the DEM)");
-  t->add_option("--sensor-height", args->sensor_height_m,
-                "gravimeter sensor above the mark, m (default 0)");
-  t->add_option("--density", args->density_g_cm3, "g/cm3 (default 2.67)");
-  t->add_option("--radius", args->radius_m, "m (default: the whole DEM)");
+  AddDeclaredOption(t, "--sensor-height", args->options, "sensor_height_m");
+  std::ostringstream density;
+  density << "density of the terrain (g/cm3, default " << args->density_g_cm3 << ")";
+  t->add_option("--density", args->density_g_cm3, density.str());
+  AddDeclaredOption(t, "--radius", args->options, "radius_m");
   t->add_option("--out", args->out, "JSON file (default: terrain_correction.json beside the DEM)");
   t->add_flag("--json", args->json, "print the result as JSON");
   t->callback([args] { Run(*args); });

@@ -64,22 +64,7 @@ void ChangeVolume::AddCell(double amount_m, double sigma_m, double cell_area_m2)
 
 void ChangeVolume::Finish() { sigma_m3 = std::sqrt(sigma_m3); }
 
-bool ChangeOptions::Check(std::string* why) const {
-  std::string err;
-  if (!(lod_m >= 0.0 && lod_m < 100.0))
-    err = "level of detection must be in [0, 100) m (0: per-cell t-test)";
-  else if (!(t_critical > 0.0 && t_critical <= 10.0))
-    err = "t_critical must be in (0, 10]";
-  else if (!(min_region_area_m2 >= 0.0))
-    err = "the smallest listed region area must be >= 0 m2";
-  else if (!(region_grow_t >= 0.6 && region_grow_t <= 10.0))
-    err = "region_grow_t must be in [0.6, 10] (below 0.6 noise percolates)";
-  else if (!(basin_reach_m >= 0.0 && basin_reach_m <= 100.0))
-    err = "basin_reach_m must be in [0, 100]";
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
-}
+bool ChangeOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "core/result.h"
 #include "processing/io/raster.h"
 
@@ -22,21 +23,30 @@ struct DemEpoch {
 };
 
 struct ChangeOptions {
-  // > 0: a fixed level of detection, |dz| >= lod_m is significant. 0: the per-cell t-test
-  // |dz| / sigma >= t_critical (needs both std grids).
   double lod_m = 0.0;
   double t_critical = 1.96;  // 95 %, two-sided
-  // Level the later epoch on the unchanged ground first (the median dz there): for epochs
-  // whose heights are not on one datum, e.g. a tripod height read 2 cm off.
   bool remove_stable_offset = false;
-  double min_region_area_m2 = 4.0;  // smaller significant cores are counted, not listed
+  double min_region_area_m2 = 4.0;
   // A region grows from its significant core into 4-neighbours lowered by at least
   // region_grow_t * sigma (hysteresis, as Canny's edges): a gentle bowl's rim, where no single
-  // cell is significant, still belongs to it. Simulated hills, 0.5 m bowl, sigma ~0.07 m:
-  // region volume -36 % with the core alone. Much below 1, noise cells join in numbers.
+  // cell is significant, still belongs to it. Much below 1, noise cells join in numbers.
   double region_grow_t = 1.0;
-  // Then ring by ring (8-neighbours) while a ring's mean lowering is significant, up to this far.
   double basin_reach_m = 10.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("lod_m", self.lod_m,
+      {"fixed level of detection (0: per-cell t-test from the std grids)", "m", 0, 99.999});
+    v("t_critical", self.t_critical, {"t of the per-cell test", "", 0.01, 10});
+    v("remove_stable_offset", self.remove_stable_offset,
+      {"level the later epoch on the unchanged ground first (epochs not on one height datum)"});
+    v("min_region_area_m2", self.min_region_area_m2,
+      {"smallest subsidence region listed (smaller cores are counted)", "m2", 0, 1e9});
+    v("region_grow_t", self.region_grow_t,
+      {"a region grows into cells lowered by this many sigma (below 0.6 noise percolates)", "", 0.6,
+       10});
+    v("basin_reach_m", self.basin_reach_m,
+      {"then ring by ring while a ring's mean lowering is significant, this far", "m", 0, 100});
+  }
   bool Check(std::string* why) const;
 };
 

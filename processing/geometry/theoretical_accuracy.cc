@@ -6,15 +6,10 @@
 namespace ts {
 
 bool TheoreticalAccuracyOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!(sigma_parallax_px > 0.0) || !(sigma_image_px > 0.0) || !std::isfinite(sigma_parallax_px) ||
-      !std::isfinite(sigma_image_px))
-    err = "sigmas must be finite and positive";
-  else if (!std::isfinite(image_x_px) || !std::isfinite(image_y_px))
-    err = "image position must be finite";
-  else if (!(range_min_m > 0.0) || !(range_max_m >= range_min_m) || !(range_step_m > 0.0) ||
-           !std::isfinite(range_max_m))
-    err = "need 0 < range_min_m <= range_max_m and range_step_m > 0";
+  if (!(range_max_m >= range_min_m))
+    err = "range_max_m must not be below range_min_m";
   else if ((range_max_m - range_min_m) / range_step_m > 1e5)
     err = "too many rows (more than 100000)";
   if (err.empty()) return true;

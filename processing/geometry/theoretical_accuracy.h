@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
+
 namespace ts {
 
 struct TheoreticalAccuracyOptions {
@@ -20,6 +22,17 @@ struct TheoreticalAccuracyOptions {
   double range_min_m = 5.0;
   double range_max_m = 60.0;
   double range_step_m = 5.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("sigma_parallax_px", self.sigma_parallax_px,
+      {"parallax (image measurement) error", "px", 1e-6, 100});
+    v("sigma_image_px", self.sigma_image_px, {"image coordinate error", "px", 1e-6, 100});
+    v("image_x_px", self.image_x_px, {"x of the point from the principal point", "px", -1e5, 1e5});
+    v("image_y_px", self.image_y_px, {"y of the point from the principal point", "px", -1e5, 1e5});
+    v("range_min_m", self.range_min_m, {"first range", "m", 1e-3, 1e5});
+    v("range_max_m", self.range_max_m, {"last range", "m", 1e-3, 1e5});
+    v("range_step_m", self.range_step_m, {"range step", "m", 1e-3, 1e5});
+  }
   bool Check(std::string* why) const;
 };
 

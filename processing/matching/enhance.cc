@@ -6,16 +6,9 @@
 namespace ts {
 
 bool EnhanceOptions::Check(std::string* why) const {
-  std::string err;
-  if (!(gaussian_sigma_px >= 0.0 && gaussian_sigma_px <= 10.0))
-    err = "gaussian_sigma_px must be in [0, 10]";
-  else if (wallis && (wallis_window_px < 3 || wallis_window_px % 2 == 0))
-    err = "wallis_window_px must be odd and at least 3";
-  else if (!(target_deviation > 0.0) || !(brightness >= 0.0 && brightness <= 1.0) ||
-           !(contrast >= 0.0 && contrast <= 1.0))
-    err = "target_deviation must be positive, brightness and contrast in [0, 1]";
-  if (err.empty()) return true;
-  if (why) *why = err;
+  if (!CheckDeclaredOptions(*this, why)) return false;
+  if (!wallis || wallis_window_px % 2 == 1) return true;
+  if (why) *why = "wallis_window_px must be odd";
   return false;
 }
 

@@ -10,6 +10,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/options.h"
+
 namespace ts {
 
 struct EnhanceOptions {
@@ -20,6 +22,17 @@ struct EnhanceOptions {
   double target_deviation = 50.0;
   double brightness = 1.0;  // b in [0, 1]
   double contrast = 0.9;    // c in [0, 1]
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("gaussian_sigma_px", self.gaussian_sigma_px, {"Gaussian blur first (0: none)", "px", 0, 10});
+    v("wallis", self.wallis, {"Wallis filter (local contrast)"});
+    v("wallis_window_px", self.wallis_window_px, {"Wallis window (odd)", "px", 3, 1001});
+    v("target_mean", self.target_mean, {"grey level of the output's mean", "", 0, 255});
+    v("target_deviation", self.target_deviation,
+      {"grey-level deviation of the output", "", 1e-3, 255});
+    v("brightness", self.brightness, {"Wallis b: how far the mean moves to the target", "", 0, 1});
+    v("contrast", self.contrast, {"Wallis c: how far the deviation moves to the target", "", 0, 1});
+  }
   bool Check(std::string* why) const;
 };
 

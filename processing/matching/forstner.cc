@@ -8,19 +8,9 @@
 namespace ts {
 
 bool ForstnerOptions::Check(std::string* why) const {
-  std::string err;
-  if (half_window_px < 1 || half_window_px > 10)
-    err = "half_window_px must be in [1, 10]";
-  else if (!(min_roundness >= 0.0 && min_roundness <= 1.0))
-    err = "min_roundness in [0, 1]";
-  else if (!(min_weight_factor > 0.0))
-    err = "min_weight_factor must be positive";
-  else if (cell_px < 2)
-    err = "cell_px must be at least 2";
-  else if (border_px < half_window_px + 1)
-    err = "border_px must exceed half_window_px";
-  if (err.empty()) return true;
-  if (why) *why = err;
+  if (!CheckDeclaredOptions(*this, why)) return false;
+  if (border_px > half_window_px) return true;
+  if (why) *why = "border_px must exceed half_window_px";
   return false;
 }
 

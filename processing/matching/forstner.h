@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
+
 namespace ts {
 
 struct ForstnerOptions {
@@ -28,6 +30,20 @@ struct ForstnerOptions {
   bool local_maxima_only = true;
   bool subpixel = true;  // false: the pixel itself (e.g. for a matcher whose windows sit on pixels)
   int border_px = 8;     // no points this close to the image border
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("half_window_px", self.half_window_px, {"structure-tensor half window", "px", 1, 10});
+    v("locate_half_window_px", self.locate_half_window_px,
+      {"half window of the sub-pixel estimate", "px", 1, 50});
+    v("min_roundness", self.min_roundness, {"q threshold: rejects edges", "", 0, 1});
+    v("min_weight_factor", self.min_weight_factor,
+      {"w threshold, times the image's median w", "", 1e-6, 1e6});
+    v("cell_px", self.cell_px, {"at most one point per grid cell", "px", 2, 10000});
+    v("local_maxima_only", self.local_maxima_only,
+      {"a cell's point must be a local maximum of w (off: dense)"});
+    v("subpixel", self.subpixel, {"sub-pixel position (off: the pixel itself)"});
+    v("border_px", self.border_px, {"no points this close to the border", "px", 2, 10000});
+  }
   bool Check(std::string* why) const;
 };
 

@@ -136,6 +136,9 @@ struct PairMatchOptions {
       {"the way back may differ this much", "px", 0, 100});
     v("sigma_scale", self.sigma_scale,
       {"the LSM sigma times this (correlated pixels)", "", 0.01, 100});
+    v.Group("enhance", self.enhance);
+    v.Group("interest", self.interest);
+    v.Group("pyramid", self.pyramid);
     v.Group("lsm", self.lsm);
     v.Group("near_lsm", self.near_lsm);
     v.Group("far_lsm", self.far_lsm);

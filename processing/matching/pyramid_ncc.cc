@@ -8,18 +8,7 @@
 
 namespace ts {
 
-bool PyramidNccOptions::Check(std::string* why) const {
-  std::string err;
-  if (half_window_px < 1)
-    err = "half_window_px must be at least 1";
-  else if (refine_radius_px < 1)
-    err = "refine_radius_px must be at least 1";
-  else if (coarsest_search_px < 4)
-    err = "coarsest_search_px must be at least 4";
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
-}
+bool PyramidNccOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 
 namespace {
 

@@ -15,12 +15,22 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/options.h"
+
 namespace ts {
 
 struct PyramidNccOptions {
   int half_window_px = 3;       // NCC window (2h+1)^2 at every level
   int refine_radius_px = 2;     // search +- this around the coarser level's estimate
   int coarsest_search_px = 40;  // levels are added until the range at the top spans <= this
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("half_window_px", self.half_window_px, {"NCC half window at every level", "px", 1, 50});
+    v("refine_radius_px", self.refine_radius_px,
+      {"search around the coarser level's estimate", "px", 1, 50});
+    v("coarsest_search_px", self.coarsest_search_px,
+      {"levels are added until the top's range spans this", "px", 4, 100000});
+  }
   bool Check(std::string* why) const;
 };
 
