@@ -26,6 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
 std::string PairName(int index) {
   char name[16];
   std::snprintf(name, sizeof(name), "pair %02d", index);
@@ -100,6 +102,7 @@ class Sequencer {
       : left_(left), right_(right), o_(o), progress_(progress), summary_(summary) {}
 
   double exposure_us = 0.0;
+  PairTimeline timeline;  // of the pair being taken
 
   // Both frames of one trigger, retried (and the cameras reconnected) on a lost frame.
   Result<std::pair<Frame, Frame>> GrabBoth(int index) {
@@ -109,10 +112,13 @@ class Sequencer {
       if (attempt > 0) ++summary_->frame_retries;
       // Each camera answers for itself: a trigger the right camera missed says nothing about
       // the left one (whose frame, if any, is waited for and dropped with the pair).
+      const auto triggered = Clock::now();
       const Status tl = left_.Trigger();
       const Status tr = right_.Trigger();
       Result<Frame> l = tl ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tl.error()});
       Result<Frame> r = tr ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tr.error()});
+      timeline.trigger_to_frame_s += Seconds(Clock::now() - triggered);
+      ++timeline.triggers;
       if (l && r) {
         const uint64_t resent = l->statistics.resent_packets + r->statistics.resent_packets;
         if (resent > 0) Log().info("{}: {} GVSP packets lost and resent", PairName(index), resent);
@@ -141,8 +147,10 @@ class Sequencer {
     for (int retake = 0;; ++retake) {
       Result<std::pair<Frame, Frame>> frames = GrabBoth(index);
       if (!frames) return Error{frames.error()};
+      const auto judged = Clock::now();
       const ExposureVerdict v =
           JudgeExposure(frames->first.image, frames->second.image, exposure_us, o_.exposure);
+      timeline.verify_s += Seconds(Clock::now() - judged);
       if (v.ok || retake >= o_.max_retakes)
         return PairFrames{std::move(frames->first), std::move(frames->second), {}};
       ++summary_->retakes;
@@ -172,9 +180,13 @@ class Sequencer {
   CaptureSummary* summary_;
 };
 
+// Writes both images, then commits the pair with its timeline (write_s and pair_s added here;
+// pair_s counts from pair_started).
 Status CommitPair(const std::string& dir, int index, const StagePose& commanded,
                   const PairFrames& frames, double exposure_us, double gain_db,
+                  const PairTimeline& timeline, Clock::time_point pair_started,
                   StationManifest* m) {
+  const auto write_started = Clock::now();
   PairRecord p;
   p.index = index;
   p.commanded = commanded;
@@ -197,6 +209,9 @@ Status CommitPair(const std::string& dir, int index, const StagePose& commanded,
     if (!sha) return Error{sha.error()};
     record.sha256 = *sha;
   }
+  p.timeline = timeline;
+  p.timeline.write_s = Seconds(Clock::now() - write_started);
+  p.timeline.pair_s = Seconds(Clock::now() - pair_started);
   m->pairs.push_back(p);
   return SaveStationManifest(m, dir);  // the commit
 }
@@ -251,19 +266,31 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
 
   const Rectification rectification = Rectify(m->calibration.rig);  // for the upper poses
   if (Status s = stage.StartMove(m->plan[missing[0]]); !s) return Error{s.error()};
+  Clock::time_point pair_started = Clock::now();
   for (size_t k = 0; k < missing.size(); ++k) {
     const int index = missing[k];
     seq.Emit({CaptureEventKind::kMoving, index, summary.total_pairs, "",
               summary.already_present + summary.captured_now});
+    seq.timeline = {};
+    seq.timeline.trigger_to_frame_s = seq.timeline.verify_s = 0.0;
+    const auto wait_started = Clock::now();
     const Result<StagePose> at = stage.WaitInPosition(o.position_tolerance_deg, o.move_timeout);
     if (!at) return Error{at.error() + " (moving to " + PairName(index) + ")"};
+    seq.timeline.stage_wait_s = Seconds(Clock::now() - wait_started);
+    const MoveTiming move = stage.last_move_timing();
+    seq.timeline.move_s = move.moving_s;
+    seq.timeline.settle_s = move.settling_s;
     Result<PairFrames> frames = seq.TakePair(index, summary.total_pairs);
     if (!frames) return Error{frames.error()};
     frames->readback = *at;
     // Terrain going on above this view: the pose above it is taken next. The plan grows in
     // memory and is saved with this pair's commit, so a resume knows it.
-    if (ExtendPlanUpwards(m->calibration, rectification, frames->left.image, frames->right.image,
-                          m->plan[index], *at, o.plan, &m->plan)) {
+    const auto look_up_started = Clock::now();
+    const bool upper =
+        ExtendPlanUpwards(m->calibration, rectification, frames->left.image, frames->right.image,
+                          m->plan[index], *at, o.plan, &m->plan);
+    seq.timeline.verify_s += Seconds(Clock::now() - look_up_started);
+    if (upper) {
       missing.insert(missing.begin() + static_cast<long>(k) + 1,
                      static_cast<int>(m->plan.size()) - 1);
       summary.total_pairs = static_cast<int>(m->plan.size());
@@ -273,9 +300,11 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
     }
     if (k + 1 < missing.size())  // the stage moves on while this pair is written
       if (Status s = stage.StartMove(m->plan[missing[k + 1]]); !s) return Error{s.error()};
-    if (Status s = CommitPair(dir, index, m->plan[index], *frames, seq.exposure_us, o.gain_db, &*m);
+    if (Status s = CommitPair(dir, index, m->plan[index], *frames, seq.exposure_us, o.gain_db,
+                              seq.timeline, pair_started, &*m);
         !s)
       return Error{s.error()};
+    pair_started = Clock::now();
     ++summary.captured_now;
     seq.Emit({CaptureEventKind::kPairCaptured, index, summary.total_pairs, "",
               summary.already_present + summary.captured_now, &m->pairs.back(), &frames->left.image,
@@ -284,6 +313,8 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   for (Camera* c : {&left, &right})
     if (Status s = c->Stop(); !s) return Error{s.error()};
   summary.exposure_us = seq.exposure_us;
+  summary.timeline = CaptureTimelineJson(
+      std::vector<PairRecord>(m->pairs.end() - summary.captured_now, m->pairs.end()));
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   seq.Emit({CaptureEventKind::kFinished, -1, summary.total_pairs, ""});
   return summary;

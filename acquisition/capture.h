@@ -60,6 +60,14 @@ struct CaptureOptions {
     v.Group("exposure", self.exposure);
   }
   bool Check(std::string* why) const;
+  // The simulated ground sits near 60 % of full scale under every scene's sun, brighter than
+  // kDefaultExposureUs assumes of real daylight: start the simulated survey shorter (the
+  // exposure control keeps a pair between 12 and 75 % either way).
+  static CaptureOptions ForSimulatedGround() {
+    CaptureOptions o;
+    o.initial_exposure_us = 7000.0;
+    return o;
+  }
 };
 
 enum class CaptureEventKind {
@@ -94,6 +102,7 @@ struct CaptureSummary {
   uint64_t resent_packets = 0;  // GVSP packets lost and recovered by resend, both cameras
   double seconds = 0.0;
   double exposure_us = 0.0;  // of the last pair
+  nlohmann::json timeline;   // of the pairs captured now (CaptureTimelineJson)
 };
 
 Result<CaptureSummary> CaptureStation(

@@ -20,16 +20,11 @@ bool AxisState::moving() const { return status & reg::kMoving; }
 bool AxisState::in_position() const { return status & reg::kInPosition; }
 bool AxisState::alarm() const { return status & reg::kAlarm; }
 
-bool ModbusStageOptions::Check(std::string* why) const {
-  if (retries >= 0 && response_timeout.count() > 0 && poll_interval.count() > 0 &&
-      stall_time.count() > 0 && stall_progress_deg > 0)
-    return true;
-  if (why) *why = "retries must be >= 0 and times and stall progress positive";
-  return false;
-}
+bool ModbusStageOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 
 namespace {
 
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 uint16_t Base(Axis axis) { return axis == Axis::kPan ? reg::kPanBase : reg::kTiltBase; }
 int32_t Millidegrees(double deg) { return static_cast<int32_t>(std::lround(deg * 1000.0)); }
 
@@ -58,6 +53,7 @@ class ModbusStage : public Stage {
   }
 
   std::string Describe() const override { return description_; }
+  MoveTiming last_move_timing() const override { return last_move_timing_; }
 
   Result<StageInfo> Identify() override {
     uint16_t r[9];
@@ -136,8 +132,9 @@ class ModbusStage : public Stage {
     // A START is taken within one stage cycle; before that the axis may still report the
     // previous IN_POSITION. Give it that cycle.
     std::this_thread::sleep_until(move_started_ + options_.poll_interval);
+    Clock::time_point within_tolerance{};
     while (Clock::now() < deadline) {
-      bool done = true;
+      bool done = true, near = true;
       StagePose pose;
       for (Axis axis : {Axis::kPan, Axis::kTilt}) {
         const int i = axis == Axis::kPan ? 0 : 1;
@@ -146,9 +143,10 @@ class ModbusStage : public Stage {
         if (a->alarm()) return AlarmError(axis, *a);
         const double target = axis == Axis::kPan ? target_.pan_deg : target_.tilt_deg;
         (axis == Axis::kPan ? pose.pan_deg : pose.tilt_deg) = a->position_deg;
-        const bool arrived =
-            a->in_position() && std::abs(a->position_deg - target) <= tolerance_deg;
+        const bool within = std::abs(a->position_deg - target) <= tolerance_deg;
+        const bool arrived = a->in_position() && within;
         done = done && arrived;
+        near = near && within;
         if (std::isnan(last[i]) ||
             std::abs(a->position_deg - last[i]) > options_.stall_progress_deg) {
           last[i] = a->position_deg;
@@ -160,7 +158,13 @@ class ModbusStage : public Stage {
                        " deg); stage stopped"};
         }
       }
-      if (done) return pose;
+      const Clock::time_point now = Clock::now();
+      if (near && within_tolerance == Clock::time_point{}) within_tolerance = now;
+      if (done) {
+        last_move_timing_ = {Seconds(within_tolerance - move_started_),
+                             Seconds(now - within_tolerance)};
+        return pose;
+      }
       std::this_thread::sleep_for(options_.poll_interval);
     }
     StopQuietly();
@@ -238,6 +242,7 @@ class ModbusStage : public Stage {
   ModbusStageOptions options_;
   StagePose target_;
   Clock::time_point move_started_ = Clock::now();
+  MoveTiming last_move_timing_;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 // WaitInPosition() ... -> destroy. Every call returns a Status/Result and never throws or
 // aborts: a crash could leave the stage moving. Not thread-safe: one owner thread.
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -36,6 +37,12 @@ struct AxisState {
   bool alarm() const;
 };
 
+// Where the time of the last move went, as the driver saw it (seconds; NaN when unknown).
+struct MoveTiming {
+  double moving_s = NAN;    // from the start command until both axes were within tolerance
+  double settling_s = NAN;  // from then until both reported IN_POSITION
+};
+
 class Stage {
  public:
   virtual ~Stage() = default;
@@ -53,6 +60,8 @@ class Stage {
                                            std::chrono::milliseconds timeout) = 0;
   virtual Status Stop() = 0;
   virtual Status ResetAlarms() = 0;
+  // Of the last WaitInPosition() that succeeded.
+  virtual MoveTiming last_move_timing() const { return {}; }
 
   Result<StagePose> MoveTo(const StagePose& target, double tolerance_deg,
                            std::chrono::milliseconds timeout) {

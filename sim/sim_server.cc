@@ -43,9 +43,15 @@ Result<std::unique_ptr<SimServer>> SimServer::Start(std::shared_ptr<const SimSta
   }
   SimulatedCamera* left = server->left_.get();
   SimulatedCamera* right = server->right_.get();
-  server->stage_->SetOnSettled([left, right](const StagePose& p) {
-    left->PoseChanged(p);
-    right->PoseChanged(p);
+  std::vector<StagePose> resting;
+  for (const StagePose& target : options.prerender_targets)
+    resting.push_back(server->stage_->RestingPose(target));
+  std::thread right_prerender([&] { right->Prerender(resting); });
+  left->Prerender(resting);
+  right_prerender.join();
+  server->stage_->SetOnMoveStarted([left, right](const StagePose& p) {
+    left->RenderAhead(p);
+    right->RenderAhead(p);
   });
   if (options.faults.camera_gone) {
     const CameraGoneFault fault = *options.faults.camera_gone;
@@ -62,7 +68,7 @@ SimServer::~SimServer() {
   }
   quit_changed_.notify_all();
   if (fault_thread_.joinable()) fault_thread_.join();
-  if (stage_) stage_->SetOnSettled({});
+  if (stage_) stage_->SetOnMoveStarted({});
   left_.reset();
   right_.reset();
   stage_.reset();
@@ -75,6 +81,10 @@ void SimServer::CameraGoneLoop(CameraGoneFault fault) {
   camera(fault.side).Stop();
   if (quit_changed_.wait_for(lock, duration<double>(fault.for_s), [&] { return quit_; })) return;
   (void)camera(fault.side).Start();  // back on the network; a failure leaves it gone
+}
+
+std::vector<StagePose> DesignPlanTargets(const SimStation& station) {
+  return MakeCapturePlan(DesignCalibration(station.scene.stage_height_m), CapturePlanOptions{});
 }
 
 nlohmann::json SimServer::Endpoints() const {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/result.h"
 #include "sim/faults.h"
@@ -32,7 +33,25 @@ struct SimServeOptions {
   bool stage_pty = true;  // also serve Modbus RTU on a pseudo-terminal
   SimFaults faults;
   RenderOptions render;
+  // Stage targets whose views are rendered before the server starts, so that the capture's
+  // own time can be measured apart from rendering (`sim serve --prerender`).
+  std::vector<StagePose> prerender_targets;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("left_address", self.left_address, {"left camera's address (of lo)"});
+    v("right_address", self.right_address, {"right camera's address (of lo)"});
+    v("left_serial", self.left_serial, {"left camera's serial number"});
+    v("right_serial", self.right_serial, {"right camera's serial number"});
+    v("stage_address", self.stage_address, {"stage's Modbus TCP address"});
+    v("stage_port", self.stage_port, {"stage's Modbus TCP port", "", 1, 65535});
+    v("stage_pty", self.stage_pty, {"also serve Modbus RTU on a pseudo-terminal"});
+    v.Group("render", self.render);
+  }
 };
+
+// The row of poses a capture with the simulated rig's design calibration (config/sim-rig.yaml)
+// and the default plan takes: what `sim serve --prerender` renders ahead.
+std::vector<StagePose> DesignPlanTargets(const SimStation& station);
 
 class SimServer {
  public:

@@ -14,31 +14,14 @@
 namespace ts::sim {
 
 bool SimStationOptions::Check(std::string* why) const {
-  std::string err;
-  if (!(stage_height_m >= 0.3 && stage_height_m <= 5.0))
-    err = "stage height must be in [0.3, 5] m";
-  else if (epoch < 1)
-    err = "epoch must be 1 or more";
-  else if (!sun_deg.empty() && sun_deg.size() != 2)
-    err = "sun must be AZIMUTH,ELEVATION (degrees)";
-  if (err.empty()) return true;
-  if (why) *why = err;
+  if (!CheckDeclaredOptions(*this, why)) return false;
+  if (sun_deg.empty() || sun_deg.size() == 2) return true;
+  if (why) *why = "sun must be AZIMUTH,ELEVATION (degrees)";
   return false;
 }
 
 bool StationRenderOptions::Check(std::string* why) const {
-  std::string err;
-  if (!(exposure_us > 0.0 && exposure_us <= 1e7))
-    err = "exposure_us must be in (0, 1e7]";
-  else if (!(gain_db >= 0.0 && gain_db <= 48.0))
-    err = "gain_db must be in [0, 48]";
-  else if (!(encoder_noise_deg >= 0.0 && encoder_noise_deg < 1.0))
-    err = "encoder_noise_deg must be in [0, 1)";
-  else if (!render.Check(&err) || !plan.Check(&err)) {
-  }
-  if (err.empty()) return true;
-  if (why) *why = err;
-  return false;
+  return CheckDeclaredOptions(*this, why) && plan.Check(why);
 }
 
 Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOptions& options) {
@@ -72,13 +55,17 @@ Result<std::shared_ptr<const SimStation>> BuildSimStation(const SimStationOption
   return std::shared_ptr<const SimStation>(std::move(station));
 }
 
-cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& r,
-                    cv::Mat* range_m) {
+cv::Mat RenderRadiance(Renderer& renderer, const SimStation& station, const FrameRequest& r,
+                       cv::Mat* range_m) {
   const CameraIntrinsics& intrinsics =
       r.side == Side::kLeft ? station.rig.truth.rig.left : station.rig.truth.rig.right;
-  const CameraModel camera(intrinsics);
   const Eigen::Isometry3d pose = station.rig.truth.LFromCamera(r.side, r.pan_deg, r.tilt_deg);
-  const cv::Mat radiance = renderer.Render(camera, pose, r.render, range_m);
+  return renderer.Render(CameraModel(intrinsics), pose, r.render, range_m);
+}
+
+cv::Mat ExposeFrame(const SimStation& station, const FrameRequest& r, const cv::Mat& radiance) {
+  const CameraIntrinsics& intrinsics =
+      r.side == Side::kLeft ? station.rig.truth.rig.left : station.rig.truth.rig.right;
   // Epoch 1 keeps the seed of the scene, so its images are those of every earlier version.
   const uint64_t epoch_seed = station.scene.epoch == 1
                                   ? station.scene.seed
@@ -87,6 +74,11 @@ cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRe
                                    std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
   return ExposeImage(radiance, intrinsics, station.rig.sensor(r.side), r.exposure_us, r.gain_db,
                      r.format, noise_seed);
+}
+
+cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& r,
+                    cv::Mat* range_m) {
+  return ExposeFrame(station, r, RenderRadiance(renderer, station, r, range_m));
 }
 
 namespace {

@@ -28,6 +28,15 @@ struct SimStationOptions {
   int epoch = 1;
   std::vector<Subsidence> subsidence;
   std::vector<double> sun_deg;  // empty: the scene's sun; else {azimuth, elevation}
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("scene", self.scene, {"built-in scene, unless dem_file is set"});
+    v("dem_file", self.dem_file, {"GeoTIFF DEM as terrain instead of a scene"});
+    v("seed", self.seed, {"scene and rig seed", "", 0, 1.8e19});
+    v("stage_height_m", self.stage_height_m, {"stage centre above the station mark", "m", 0.3, 5});
+    v("epoch", self.epoch,
+      {"survey epoch of the same site (later epochs get new sensor noise)", "", 1, 1000000});
+  }
   bool Check(std::string* why) const;
 };
 
@@ -55,6 +64,12 @@ struct FrameRequest {
 // at each pixel centre (CV_32FC1, NaN for sky).
 cv::Mat RenderFrame(Renderer& renderer, const SimStation& station, const FrameRequest& request,
                     cv::Mat* range_m = nullptr);
+// The two halves of RenderFrame: the scene's radiance seen at the pose (the costly part,
+// independent of exposure, gain and format), and the sensor's exposure of it.
+cv::Mat RenderRadiance(Renderer& renderer, const SimStation& station, const FrameRequest& request,
+                       cv::Mat* range_m = nullptr);
+cv::Mat ExposeFrame(const SimStation& station, const FrameRequest& request,
+                    const cv::Mat& radiance);
 
 struct StationRenderOptions {
   double exposure_us = kDefaultExposureUs;
@@ -64,6 +79,18 @@ struct StationRenderOptions {
   CapturePlanOptions plan;
   double encoder_noise_deg = 0.002;  // where the axes really stop around the commanded angle
   bool write_range_images = false;   // truth/range/pair_NN_{left,right}.tif, float32 metres
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("exposure_us", self.exposure_us, {"exposure", "us", 1, 1e7});
+    v("gain_db", self.gain_db, {"gain", "dB", 0, 48});
+    v("format", self.format, {"pixel format (0 Mono8, 1 Mono16)"});
+    v("encoder_noise_deg", self.encoder_noise_deg,
+      {"where the axes stop around the commanded angle (sigma)", "deg", 0, 0.999});
+    v("write_range_images", self.write_range_images,
+      {"also write the true range image of every view into the truth directory"});
+    v.Group("render", self.render);
+    v.Group("plan", self.plan);
+  }
   bool Check(std::string* why) const;
 };
 

@@ -8,12 +8,13 @@
 namespace ts::sim {
 namespace {
 
-SimulatedCamera::Key MakeKey(const StagePose& pose, unsigned exposure_us, unsigned gain,
-                             PixelFormat format) {
-  // Poses closer than a microdegree render the same frame.
-  return {std::llround(pose.pan_deg * 1e6), std::llround(pose.tilt_deg * 1e6), exposure_us, gain,
-          static_cast<int>(format)};
+// Poses closer than a microdegree render the same view.
+SimulatedCamera::PoseKey MakePoseKey(const StagePose& pose) {
+  return {std::llround(pose.pan_deg * 1e6), std::llround(pose.tilt_deg * 1e6)};
 }
+
+// Views rendered ahead and not pre-rendered: the one the stage is coming to, and the last.
+constexpr size_t kUnpinnedViews = 2;
 
 void FillCallback(ArvBuffer* buffer, void* self, guint32 exposure_us, guint32 gain,
                   ArvPixelFormat pixel_format) {
@@ -29,7 +30,7 @@ SimulatedCamera::SimulatedCamera(std::shared_ptr<const SimStation> station,
       stage_pose_(std::move(stage_pose)),
       options_(options),
       renderer_(station_->scene, station_->mesh) {
-  prerender_thread_ = std::thread([this] { PrerenderLoop(); });
+  render_ahead_thread_ = std::thread([this] { RenderAheadLoop(); });
 }
 
 SimulatedCamera::~SimulatedCamera() {
@@ -39,7 +40,7 @@ SimulatedCamera::~SimulatedCamera() {
     quit_ = true;
   }
   cache_changed_.notify_all();
-  prerender_thread_.join();
+  render_ahead_thread_.join();
 }
 
 Status SimulatedCamera::Start() {
@@ -103,42 +104,80 @@ bool SimulatedCamera::running() const {
   return camera_ != nullptr;
 }
 
-void SimulatedCamera::PoseChanged(const StagePose& pose) {
+void SimulatedCamera::RenderAhead(const StagePose& pose) {
   {
     std::lock_guard lock(cache_mutex_);
-    prerender_wanted_ = true;
-    prerender_pose_ = pose;
+    ahead_wanted_ = true;
+    ahead_pose_ = pose;
   }
   cache_changed_.notify_all();
 }
 
-void SimulatedCamera::PrerenderLoop() {
+void SimulatedCamera::Prerender(const std::vector<StagePose>& poses) {
+  for (const StagePose& pose : poses) Radiance(pose, true);
+}
+
+SimulatedCamera::Counters SimulatedCamera::counters() const {
+  std::lock_guard lock(cache_mutex_);
+  return counters_;
+}
+
+void SimulatedCamera::RenderAheadLoop() {
   std::unique_lock lock(cache_mutex_);
   while (true) {
-    cache_changed_.wait(lock, [&] { return quit_ || prerender_wanted_; });
+    cache_changed_.wait(lock, [&] { return quit_ || ahead_wanted_; });
     if (quit_) return;
-    prerender_wanted_ = false;
-    const StagePose pose = prerender_pose_;
-    const unsigned exposure = last_exposure_us_, gain = last_gain_;
-    const PixelFormat format = last_format_;
+    ahead_wanted_ = false;
+    const StagePose pose = ahead_pose_;
     lock.unlock();
-    Frame(pose, exposure, gain, format);
+    Radiance(pose, false);
     lock.lock();
   }
 }
 
+cv::Mat SimulatedCamera::Radiance(const StagePose& pose, bool pin, bool* waited) {
+  const PoseKey key = MakePoseKey(pose);
+  auto cached = [&]() -> cv::Mat {
+    std::lock_guard lock(cache_mutex_);
+    const auto it = radiance_.find(key);
+    if (it == radiance_.end()) return cv::Mat();
+    if (pin) std::erase(unpinned_, key);
+    return it->second;
+  };
+  if (cv::Mat r = cached(); !r.empty()) return r;
+  if (waited) *waited = true;
+  std::lock_guard render_lock(render_mutex_);
+  if (cv::Mat r = cached(); !r.empty()) return r;  // rendered meanwhile by another thread
+  FrameRequest request;
+  request.side = options_.side;
+  request.pan_deg = pose.pan_deg;
+  request.tilt_deg = pose.tilt_deg;
+  request.render = options_.render;
+  cv::Mat radiance = RenderRadiance(renderer_, *station_, request);
+  std::lock_guard lock(cache_mutex_);
+  radiance_[key] = radiance;
+  if (!pin) {
+    unpinned_.push_back(key);
+    if (unpinned_.size() > kUnpinnedViews) {
+      radiance_.erase(unpinned_.front());
+      unpinned_.pop_front();
+    }
+  }
+  return radiance;
+}
+
 cv::Mat SimulatedCamera::Frame(const StagePose& pose, unsigned exposure_us, unsigned gain_db,
                                PixelFormat format) {
-  const Key key = MakeKey(pose, exposure_us, gain_db, format);
+  const PoseKey pose_key = MakePoseKey(pose);
+  const FrameKey key{pose_key.first, pose_key.second, exposure_us, gain_db,
+                     static_cast<int>(format)};
   {
     std::lock_guard lock(cache_mutex_);
-    if (!cached_.empty() && cached_key_ == key) return cached_;
+    ++counters_.frames;
+    if (!frame_.empty() && frame_key_ == key) return frame_;
   }
-  std::lock_guard render_lock(render_mutex_);
-  {
-    std::lock_guard lock(cache_mutex_);  // rendered meanwhile by the other thread?
-    if (!cached_.empty() && cached_key_ == key) return cached_;
-  }
+  bool waited = false;
+  const cv::Mat radiance = Radiance(pose, false, &waited);
   FrameRequest request;
   request.side = options_.side;
   request.pan_deg = pose.pan_deg;
@@ -146,11 +185,11 @@ cv::Mat SimulatedCamera::Frame(const StagePose& pose, unsigned exposure_us, unsi
   request.exposure_us = exposure_us;
   request.gain_db = gain_db;
   request.format = format;
-  request.render = options_.render;
-  cv::Mat frame = RenderFrame(renderer_, *station_, request);
+  cv::Mat frame = ExposeFrame(*station_, request, radiance);
   std::lock_guard lock(cache_mutex_);
-  cached_key_ = key;
-  cached_ = frame;
+  counters_.waited_for_render += waited ? 1 : 0;
+  frame_key_ = key;
+  frame_ = frame;
   return frame;
 }
 
@@ -172,12 +211,6 @@ void SimulatedCamera::FillBuffer(void* buffer_ptr, unsigned exposure_us, unsigne
     return;
   }
   const PixelFormat format = mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
-  {
-    std::lock_guard lock(self->cache_mutex_);
-    self->last_exposure_us_ = exposure_us;
-    self->last_gain_ = gain;
-    self->last_format_ = format;
-  }
   const cv::Mat frame = self->Frame(self->stage_pose_(), exposure_us, gain, format);
   for (int row = 0; row < height; ++row) {
     uint8_t* out = data + static_cast<size_t>(row) * width * bytes_per_pixel;

@@ -2,12 +2,14 @@
 // A simulated GigE Vision camera: Aravis's ArvGvFakeCamera on its own address, with a fill
 // callback that renders what this camera of the rig sees at the stage's current pose, at
 // the exposure, gain and pixel format the client set. Honours software trigger (the fake
-// camera's own GenICam model). When the stage settles, the frame for the new pose is
-// rendered in the background, so a trigger is answered from the cache within milliseconds.
+// camera's own GenICam model). The costly part of a frame, the scene's radiance at a pose, is
+// rendered ahead: while the stage moves to a pose (RenderAhead), or for all the poses of a
+// capture before it starts (Prerender); a trigger then costs only the sensor's exposure.
 //
-// Threads: the fill callback runs on Aravis's camera thread; PoseChanged() on the stage's;
-// Start()/Stop() from the owner. All are safe together.
+// Threads: the fill callback runs on Aravis's camera thread; RenderAhead() on the stage's;
+// Start()/Stop()/Prerender() from the owner. All are safe together.
 #include <condition_variable>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -16,6 +18,7 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 #include "core/exposure.h"
 #include "core/result.h"
@@ -50,18 +53,29 @@ class SimulatedCamera {
   // Takes the camera off the network (the camera-gone fault).
   void Stop();
   bool running() const;
-  // The stage came to rest at `pose`: render the next frame ahead of the trigger.
-  void PoseChanged(const StagePose& pose);
+  // The stage will come to rest at `pose`: render its view now, before the trigger.
+  void RenderAhead(const StagePose& pose);
+  // Renders the views at these poses now (blocking) and keeps them for the camera's life.
+  void Prerender(const std::vector<StagePose>& poses);
+  struct Counters {
+    int frames = 0;             // frames served
+    int waited_for_render = 0;  // of them, triggered before their view was rendered
+  };
+  Counters counters() const;
   const SimulatedCameraOptions& options() const { return options_; }
 
   // Aravis's fill callback lands here (on the camera thread): buffer is an ArvBuffer*.
   void FillBuffer(void* buffer, unsigned exposure_us, unsigned gain, unsigned pixel_format);
 
-  using Key = std::tuple<long long, long long, unsigned, unsigned, int>;
+  using PoseKey = std::pair<long long, long long>;
+  using FrameKey = std::tuple<long long, long long, unsigned, unsigned, int>;
 
  private:
   cv::Mat Frame(const StagePose& pose, unsigned exposure_us, unsigned gain_db, PixelFormat format);
-  void PrerenderLoop();
+  // The radiance at `pose`, from the cache or rendered now; *waited is set when it was not
+  // in the cache (rendered now, or still being rendered ahead).
+  cv::Mat Radiance(const StagePose& pose, bool pin, bool* waited = nullptr);
+  void RenderAheadLoop();
 
   std::shared_ptr<const SimStation> station_;
   std::function<StagePose()> stage_pose_;
@@ -72,16 +86,17 @@ class SimulatedCamera {
 
   std::mutex render_mutex_;  // one render at a time per camera (one Renderer)
   Renderer renderer_;
-  std::mutex cache_mutex_;
+  mutable std::mutex cache_mutex_;
   std::condition_variable cache_changed_;
-  Key cached_key_{};
-  cv::Mat cached_;
-  bool prerender_wanted_ = false;
-  StagePose prerender_pose_;
-  unsigned last_exposure_us_ = static_cast<unsigned>(kDefaultExposureUs), last_gain_ = 0;
-  PixelFormat last_format_ = PixelFormat::kMono8;
+  std::map<PoseKey, cv::Mat> radiance_;  // pre-rendered (pinned) and the latest rendered ahead
+  std::deque<PoseKey> unpinned_;         // oldest first
+  FrameKey frame_key_{};
+  cv::Mat frame_;  // the last frame served
+  Counters counters_;
+  bool ahead_wanted_ = false;
+  StagePose ahead_pose_;
   bool quit_ = false;
-  std::thread prerender_thread_;
+  std::thread render_ahead_thread_;
 };
 
 }  // namespace ts::sim

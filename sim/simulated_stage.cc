@@ -85,9 +85,14 @@ StagePose SimulatedStage::Pose() const {
   return {pan_.position_deg(), tilt_.position_deg()};
 }
 
-void SimulatedStage::SetOnSettled(std::function<void(const StagePose&)> callback) {
+StagePose SimulatedStage::RestingPose(const StagePose& target) const {
   std::lock_guard lock(mutex_);
-  on_settled_ = std::move(callback);
+  return {pan_.RestingDeg(target.pan_deg), tilt_.RestingDeg(target.tilt_deg)};
+}
+
+void SimulatedStage::SetOnMoveStarted(std::function<void(const StagePose&)> callback) {
+  std::lock_guard lock(mutex_);
+  on_move_started_ = std::move(callback);
 }
 
 void SimulatedStage::ApplyCommands() {
@@ -138,27 +143,23 @@ void SimulatedStage::PublishRegisters() {
 
 void SimulatedStage::PhysicsLoop() {
   auto next = std::chrono::steady_clock::now();
-  bool was_at_rest = true;
   while (!stop_) {
     next += std::chrono::microseconds(static_cast<int>(kPhysicsDt * 1e6));
     std::this_thread::sleep_until(next);
     std::function<void(const StagePose&)> notify;
-    StagePose pose;
+    StagePose goal;
     {
       std::lock_guard lock(mutex_);
       ApplyCommands();
       pan_.Step(kPhysicsDt);
       tilt_.Step(kPhysicsDt);
       PublishRegisters();
-      const bool at_rest =
-          !pan_.moving() && !pan_.settling() && !tilt_.moving() && !tilt_.settling();
-      if (at_rest && !was_at_rest && on_settled_) {
-        notify = on_settled_;
-        pose = {pan_.position_deg(), tilt_.position_deg()};
+      if (announce_in_ticks_ > 0 && --announce_in_ticks_ == 0 && on_move_started_) {
+        notify = on_move_started_;
+        goal = {pan_.goal_deg(), tilt_.goal_deg()};
       }
-      was_at_rest = at_rest;
     }
-    if (notify) notify(pose);
+    if (notify) notify(goal);
   }
 }
 

@@ -47,9 +47,11 @@ class SimulatedStage {
   Result<std::string> ServePty();
   // Encoder readings of the axes now (what the actual-position registers hold, unrounded).
   StagePose Pose() const;
+  // Where a move to `target` will come to rest (the encoder readings then).
+  StagePose RestingPose(const StagePose& target) const;
   // Called (on the physics thread) with the pose where the axes will come to rest, shortly
-  // after a move starts (so a simulated camera can render ahead) and again when they have.
-  void SetOnSettled(std::function<void(const StagePose&)> callback);
+  // after a move starts, so that a simulated camera can render it while the stage moves.
+  void SetOnMoveStarted(std::function<void(const StagePose&)> callback);
   void Stop();
 
  private:
@@ -66,7 +68,7 @@ class SimulatedStage {
   mutable std::mutex mutex_;  // guards axes_, registers, rng_
   AxisDynamics pan_, tilt_;
   _modbus_mapping_t* mapping_ = nullptr;
-  std::function<void(const StagePose&)> on_settled_;
+  std::function<void(const StagePose&)> on_move_started_;
   int announce_in_ticks_ = -1;  // counts down to announcing the goal of a new move
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;

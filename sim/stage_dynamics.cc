@@ -4,13 +4,14 @@
 #include <cmath>
 
 #include "core/stage_registers.h"
+#include "sim/noise.h"
 
 namespace ts::sim {
 
 namespace reg = stage_registers;
 
 AxisDynamics::AxisDynamics(const AxisSettings& settings, uint64_t seed)
-    : settings_(settings), rng_(seed) {
+    : settings_(settings), seed_(seed), rng_(seed) {
   speed_ = settings.speed_deg_s;
   acceleration_ = settings.acceleration_deg_s2;
   // The axis powers up somewhere near zero, not homed.
@@ -20,8 +21,7 @@ AxisDynamics::AxisDynamics(const AxisSettings& settings, uint64_t seed)
 void AxisDynamics::BeginMove(double target, double speed, double acceleration) {
   target_ = target;
   start_ = position_;
-  std::normal_distribution<double> error(0.0, settings_.position_error_deg);
-  goal_ = target + error(rng_);
+  goal_ = RestingDeg(target);
   speed_ = std::clamp(speed, 0.1, settings_.speed_deg_s * 1.5);
   acceleration_ = std::clamp(acceleration, 1.0, settings_.acceleration_deg_s2 * 1.5);
   ++moves_;
@@ -31,6 +31,15 @@ void AxisDynamics::BeginMove(double target, double speed, double acceleration) {
     return;
   }
   phase_ = Phase::kMoving;
+}
+
+double AxisDynamics::RestingDeg(double target_deg) const {
+  // A normal deviate (Box-Muller) hashed from the target at the register's millidegree.
+  const int64_t millideg = std::llround(target_deg * 1000.0);
+  const double u1 = 0.5 * (HashUnit(seed_, millideg, 1) + 1.0);
+  const double u2 = 0.5 * (HashUnit(seed_, millideg, 2) + 1.0);
+  const double normal = std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * M_PI * u2);
+  return target_deg + settings_.position_error_deg * normal;
 }
 
 bool AxisDynamics::Start(double target, double speed, double acceleration) {

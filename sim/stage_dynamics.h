@@ -1,7 +1,8 @@
 #pragma once
 // One simulated stage axis: trapezoidal motion (speed and acceleration limits), a settling
-// time with a decaying wobble, a small positioning error per move, soft limits, homing,
-// alarms, and the stall and alarm faults. Pure state machine: Step(dt) advances time, so it
+// time with a decaying wobble, a small positioning error at each target (repeatable, as a
+// real axis's is: so a simulator can know where a move will end before it starts), soft limits,
+// homing, alarms, and the stall and alarm faults. Pure state machine: Step(dt) advances time, so it
 // is tested without any clock or network.
 #include <cstdint>
 #include <random>
@@ -13,7 +14,7 @@ struct AxisSettings {
   double acceleration_deg_s2 = 180.0;
   double settle_s = 0.2;
   double min_deg = -1e9, max_deg = 1e9;  // soft limits
-  double position_error_deg = 0.002;     // sigma of where a move really ends
+  double position_error_deg = 0.002;     // sigma of where a move really ends, over targets
   int stall_after_moves = -1;            // fault: the move after this many stalls (-1 = never)
   int alarm_after_moves = -1;            // fault: the move after this many raises an alarm
 };
@@ -33,6 +34,8 @@ class AxisDynamics {
   double target_deg() const { return target_; }
   // Where the axis will come to rest: the target plus this move's positioning error.
   double goal_deg() const { return goal_; }
+  // Where a move to `target_deg` will end (what goal_deg() becomes when it starts).
+  double RestingDeg(double target_deg) const;
   bool moving() const { return phase_ == Phase::kMoving || phase_ == Phase::kStalled; }
   bool in_position() const { return phase_ == Phase::kIdle && !alarm_; }
   bool settling() const { return phase_ == Phase::kSettling; }
@@ -47,6 +50,7 @@ class AxisDynamics {
   void BeginMove(double target, double speed, double acceleration);
 
   AxisSettings settings_;
+  uint64_t seed_;
   std::mt19937_64 rng_;
   Phase phase_ = Phase::kIdle;
   double position_ = 0.0, velocity_ = 0.0, wobble_ = 0.0;

@@ -2,16 +2,17 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 
-#include "core/exposure.h"
 #include "sim/faults.h"
 #include "sim/sim_server.h"
 #include "sim/sim_station.h"
 #include "sim/truth.h"
 #include "station/commands.h"
+#include "station/option_flags.h"
 #include "station/sim_station_options.h"
 
 namespace ts {
@@ -66,6 +67,7 @@ struct ServeArgs {
   SceneArgs scene;
   sim::SimServeOptions serve;
   std::string faults;
+  bool prerender = false;
 };
 
 void RunServe(const ServeArgs& args) {
@@ -83,6 +85,7 @@ void RunServe(const ServeArgs& args) {
   const auto station = Build(args.scene);
   const Status truth = sim::WriteTruthDirectory(station->scene, station->rig, args.scene.truth_dir);
   if (!truth) throw CommandError(truth.error());
+  if (args.prerender) options.prerender_targets = sim::DesignPlanTargets(*station);
   auto server = sim::SimServer::Start(station, options);
   if (!server) throw CommandError(server.error());
   nlohmann::json ready = (*server)->Endpoints();
@@ -107,17 +110,13 @@ void AddSimCommand(CLI::App& app) {
       "render", "Write a complete station directory from the renderer, and its ground truth");
   AddSceneOptions(r, &render->scene);
   r->add_option("--out", render->out, "station directory to write")->required();
-  r->add_option(
-      "--exposure-us", render->render.exposure_us,
-      "exposure (us, default " + std::to_string(static_cast<int>(kDefaultExposureUs)) + ")");
-  r->add_option("--gain-db", render->render.gain_db, "gain (default 0)");
-  r->add_option("--supersampling", render->render.render.supersampling,
-                "samples per pixel along each axis (default 2)");
+  AddDeclaredOption(r, "--exposure-us", render->render, "exposure_us");
+  AddDeclaredOption(r, "--gain-db", render->render, "gain_db");
+  AddDeclaredOption(r, "--supersampling", render->render, "render.supersampling");
   r->add_flag("--mono16", render->mono16, "write Mono16 images instead of Mono8");
   r->add_flag("--single-row", render->single_row,
               "no poses higher up where the terrain goes on above a view");
-  r->add_flag("--range", render->render.write_range_images,
-              "also write the true range image of every view into the truth directory");
+  AddDeclaredOption(r, "--range", render->render, "write_range_images");
   r->callback([render] { RunRender(*render); });
 
   auto serve = std::make_shared<ServeArgs>();
@@ -128,12 +127,17 @@ void AddSimCommand(CLI::App& app) {
                 "key=value,...: gvsp-loss=R, camera-gone=SIDE:after=S:for=S, "
                 "stage-stall=AXIS:after=N, stage-alarm=AXIS:after=N, modbus-crc=R, "
                 "modbus-drop=R");
-  v->add_option("--left-address", serve->serve.left_address, "default 127.0.0.1");
-  v->add_option("--right-address", serve->serve.right_address, "default 127.0.0.2");
-  v->add_option("--left-serial", serve->serve.left_serial, "default TS-SIM-L");
-  v->add_option("--right-serial", serve->serve.right_serial, "default TS-SIM-R");
-  v->add_option("--stage-address", serve->serve.stage_address, "default 127.0.0.1");
-  v->add_option("--stage-port", serve->serve.stage_port, "Modbus TCP port (default 15020)");
+  for (const char* name :
+       {"left_address", "right_address", "left_serial", "right_serial", "stage_address"}) {
+    std::string flag = std::string("--") + name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    AddDeclaredOption(v, flag, serve->serve, name);
+  }
+  AddDeclaredOption(v, "--stage-port", serve->serve, "stage_port");
+  AddDeclaredOption(v, "--supersampling", serve->serve, "render.supersampling");
+  v->add_flag("--prerender", serve->prerender,
+              "render the views of the design plan's poses before serving, so that a capture "
+              "with config/sim-rig.yaml is served at once (to time the capture alone)");
   v->callback([serve] { RunServe(*serve); });
 }
 

@@ -26,6 +26,11 @@ const json& JsonObject::Get(const std::string& key) const {
   return *it;
 }
 
+bool JsonObject::Has(const std::string& key) const {
+  const auto it = value_->find(key);
+  return it != value_->end() && !it->is_null();
+}
+
 double JsonObject::Number(const std::string& key) const {
   const json& v = Get(key);
   if (!v.is_number()) Fail(key, "must be a number");

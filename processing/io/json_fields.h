@@ -17,6 +17,7 @@ class JsonObject {
   // Borrows value (it must outlive this); throws ConfigError if it is not an object.
   JsonObject(const nlohmann::json& value, std::string path);
 
+  bool Has(const std::string& key) const;       // present and not null
   double Number(const std::string& key) const;  // finite
   int Int(const std::string& key, int min_value, int max_value) const;
   int64_t Int64(const std::string& key) const;

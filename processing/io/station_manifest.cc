@@ -2,9 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -54,17 +56,51 @@ json PoseToJson(const StagePose& p) { return {{"pan_deg", p.pan_deg}, {"tilt_deg
 
 StagePose PoseFromJson(const JsonObject& o) { return {o.Number("pan_deg"), o.Number("tilt_deg")}; }
 
+// The timeline's fields, once for writing and reading.
+template <class Timeline, class V>
+void VisitTimeline(Timeline& t, V&& v) {
+  v("move_s", t.move_s);
+  v("settle_s", t.settle_s);
+  v("stage_wait_s", t.stage_wait_s);
+  v("trigger_to_frame_s", t.trigger_to_frame_s);
+  v("verify_s", t.verify_s);
+  v("write_s", t.write_s);
+  v("pair_s", t.pair_s);
+}
+
+json TimelineToJson(const PairTimeline& t) {
+  json j = json::object();
+  VisitTimeline(t, [&](const char* name, double value) {
+    if (std::isfinite(value)) j[name] = value;
+  });
+  if (t.triggers > 0) j["triggers"] = t.triggers;
+  return j;
+}
+
+PairTimeline TimelineFromJson(const JsonObject& o) {
+  PairTimeline t;
+  VisitTimeline(t, [&](const char* name, double& value) {
+    if (!o.Has(name)) return;
+    value = o.Number(name);
+    if (value < 0.0) o.Fail(name, "must not be negative");
+  });
+  if (o.Has("triggers")) t.triggers = o.Int("triggers", 0, 1000000);
+  return t;
+}
+
 json PairToJson(const PairRecord& p) {
-  return {{"index", p.index},
-          {"commanded", PoseToJson(p.commanded)},
-          {"readback", PoseToJson(p.readback)},
-          {"exposure_us", p.exposure_us},
-          {"gain_db", p.gain_db},
-          {"captured_utc", p.captured_utc},
-          {"left_timestamp_ns", p.left_timestamp_ns},
-          {"right_timestamp_ns", p.right_timestamp_ns},
-          {"left", {{"file", p.left.file}, {"sha256", p.left.sha256}}},
-          {"right", {{"file", p.right.file}, {"sha256", p.right.sha256}}}};
+  json j = {{"index", p.index},
+            {"commanded", PoseToJson(p.commanded)},
+            {"readback", PoseToJson(p.readback)},
+            {"exposure_us", p.exposure_us},
+            {"gain_db", p.gain_db},
+            {"captured_utc", p.captured_utc},
+            {"left_timestamp_ns", p.left_timestamp_ns},
+            {"right_timestamp_ns", p.right_timestamp_ns},
+            {"left", {{"file", p.left.file}, {"sha256", p.left.sha256}}},
+            {"right", {{"file", p.right.file}, {"sha256", p.right.sha256}}}};
+  if (json t = TimelineToJson(p.timeline); !t.empty()) j["timeline"] = t;
+  return j;
 }
 
 ImageRecord ImageFromJson(const JsonObject& o) {
@@ -90,6 +126,7 @@ PairRecord PairFromJson(const JsonObject& o) {
   p.right_timestamp_ns = o.Int64("right_timestamp_ns");
   p.left = ImageFromJson(o.Object("left"));
   p.right = ImageFromJson(o.Object("right"));
+  if (o.Has("timeline")) p.timeline = TimelineFromJson(o.Object("timeline"));
   return p;
 }
 
@@ -186,6 +223,30 @@ Status SaveStationManifest(StationManifest* manifest, const std::string& station
   if (manifest->created_utc.empty()) manifest->created_utc = manifest->updated_utc;
   const std::string path = (std::filesystem::path(station_dir) / kManifestFileName).string();
   return WriteFileAtomically(path, ManifestToJson(*manifest));
+}
+
+json CaptureTimelineJson(const std::vector<PairRecord>& pairs) {
+  json list = json::array();
+  std::map<std::string, std::vector<double>> values;
+  for (const PairRecord& p : pairs) {
+    json t = TimelineToJson(p.timeline);
+    if (t.empty()) continue;
+    VisitTimeline(p.timeline, [&](const char* name, double value) {
+      if (std::isfinite(value)) values[name].push_back(value);
+    });
+    t["pair"] = p.index;
+    list.push_back(t);
+  }
+  if (list.empty()) return nullptr;
+  json total = json::object(), median = json::object();
+  for (auto& [name, v] : values) {
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    total[name] = sum;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    median[name] = v[v.size() / 2];
+  }
+  return {{"pairs", list}, {"total_s", total}, {"median_s", median}};
 }
 
 }  // namespace ts

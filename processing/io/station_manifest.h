@@ -6,7 +6,9 @@
 //   STATION/station.json
 //   STATION/raw/pair_NN_{left,right}.png
 //   STATION/products/...
+#include <cmath>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +29,20 @@ struct ImageRecord {
   std::string sha256;  // lower-case hex of the file's bytes
 };
 
+// Where the capture's time went for one pair (seconds; NaN where not measured, e.g. for a
+// rendered station). The stage moves to a pose while the previous pair is written, so
+// move + settle overlap the previous write; stage_wait is the part that did not.
+struct PairTimeline {
+  double move_s = NAN;              // start command until both axes within tolerance
+  double settle_s = NAN;            // then until both report IN_POSITION
+  double stage_wait_s = NAN;        // the capture waited this long for the stage
+  double trigger_to_frame_s = NAN;  // trigger until both frames are in (all triggers)
+  int triggers = 0;                 // re-triggers and exposure retakes included
+  double verify_s = NAN;            // exposure check and the look above the view
+  double write_s = NAN;             // both images written and synced
+  double pair_s = NAN;              // previous commit (or the capture's start) to this commit
+};
+
 struct PairRecord {
   int index = 0;             // position in the capture plan, 0-based
   StagePose commanded;       // what the stage was told
@@ -38,6 +54,7 @@ struct PairRecord {
   int64_t right_timestamp_ns = 0;
   ImageRecord left;
   ImageRecord right;
+  PairTimeline timeline;
 };
 
 struct StationManifest {
@@ -70,5 +87,9 @@ Result<StationManifest> LoadStationManifest(const std::string& station_dir);
 Status SaveStationManifest(StationManifest* manifest, const std::string& station_dir);
 
 std::string UtcNowIso8601();
+
+// The capture timeline of the pairs that carry one: {"pairs": [{"pair", "move_s", ...}],
+// "total_s": {field: sum}, "median_s": {field: median per pair}}; null when none does.
+nlohmann::json CaptureTimelineJson(const std::vector<PairRecord>& pairs);
 
 }  // namespace ts

@@ -52,6 +52,8 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   report["terrain_correction_mgal"] = w.terrain_correction.total_mgal;
   report["terrain_correction_sigma_mgal"] = w.terrain_correction.sigma_mgal;
   report["timings_s"] = summary.TimingsJson();
+  if (nlohmann::json capture = CaptureTimelineJson(in.manifest.pairs); !capture.is_null())
+    report["capture_timeline"] = capture;
   report["wall_s"] = wall_s;
   report["peak_memory_mib"] = PeakMemoryMiB();
   report["counts"] = Counts(summary);

@@ -46,6 +46,22 @@ TEST(AxisDynamics, PositioningErrorIsSmallAndRandom) {
   EXPECT_NEAR(std::sqrt(sum2 / 50), 0.002, 0.001);
 }
 
+// A simulator renders a view before the stage gets there: the axis must tell where a move
+// will end, and end there, again and again (a real axis's error repeats at a target too).
+TEST(AxisDynamics, AMoveEndsWhereRestingDegSaidAtEveryReturn) {
+  AxisDynamics axis(AxisSettings{}, 9);
+  for (double target : {30.0, -60.0, 30.0, 90.0, -60.0}) {
+    const double predicted = axis.RestingDeg(target);
+    EXPECT_NE(predicted, target);
+    ASSERT_TRUE(axis.Start(target, 60, 180));
+    EXPECT_EQ(axis.goal_deg(), predicted);
+    RunUntilIdle(axis);
+    EXPECT_EQ(axis.position_deg(), predicted) << target;
+  }
+  EXPECT_EQ(axis.RestingDeg(30.0), axis.RestingDeg(30.0));
+  EXPECT_NE(AxisDynamics(AxisSettings{}, 10).RestingDeg(30.0), axis.RestingDeg(30.0));
+}
+
 TEST(AxisDynamics, SoftLimitRaisesAnAlarmUntilReset) {
   AxisSettings s;
   s.min_deg = -32;

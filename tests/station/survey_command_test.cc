@@ -5,9 +5,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "processing/io/raster.h"
+#include "processing/io/station_manifest.h"
 #include "tests/common/station_fixture.h"
 #include "tests/common/temp_dir.h"
 
@@ -69,6 +71,13 @@ TEST(SurveySim, FlatSceneEndToEndAsANormalUser) {
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const Result<Raster> processed = ReadGeoTiff(dir / "st/products/dem.tif");
   ASSERT_TRUE(processed) << processed.error();
+  // The station's report carries the capture timeline of every pair.
+  std::ifstream report_file(dir / "st/products/report.json");
+  const auto report = nlohmann::json::parse(report_file);
+  const Result<StationManifest> manifest = LoadStationManifest(dir / "st");
+  ASSERT_TRUE(manifest) << manifest.error();
+  EXPECT_EQ(report["capture_timeline"]["pairs"].size(), manifest->pairs.size());
+  EXPECT_GT(report["capture_timeline"]["total_s"]["trigger_to_frame_s"].get<double>(), 0.0);
   ASSERT_EQ(surveyed->values.size(), processed->values.size());
   EXPECT_EQ(0, std::memcmp(surveyed->values.data(), processed->values.data(),
                            surveyed->values.size() * sizeof(float)));

@@ -109,10 +109,24 @@ TEST_F(CaptureTest, CapturesACompleteValidPanorama) {
   EXPECT_EQ(s->captured_now, 12);
   const Result<StationManifest> m = ValidateStation(dir_ / "S", {.require_complete = true});
   ASSERT_TRUE(m.ok()) << m.error();
+  double stage_wait_s = 0.0;
   for (const PairRecord& p : m->pairs) {
     EXPECT_NEAR(p.readback.pan_deg, p.commanded.pan_deg, 0.05);
     EXPECT_NEAR(p.readback.tilt_deg, p.commanded.tilt_deg, 0.05);
+    // The timeline: the simulated axes settle for 0.2 s (seen through a 20 ms status poll);
+    // a pair's own time holds its wait for the stage and its triggers.
+    const PairTimeline& t = p.timeline;
+    EXPECT_GT(t.move_s, 0.0);
+    EXPECT_NEAR(t.settle_s, 0.2, 0.1);
+    EXPECT_GE(t.triggers, 1);
+    EXPECT_GT(t.trigger_to_frame_s, 0.0);
+    EXPECT_GE(t.verify_s, 0.0);
+    EXPECT_GT(t.write_s, 0.0);
+    EXPECT_GE(t.pair_s, t.stage_wait_s + t.trigger_to_frame_s + t.write_s);
+    stage_wait_s += t.stage_wait_s;
   }
+  EXPECT_NEAR(s->timeline["total_s"]["stage_wait_s"].get<double>(), stage_wait_s, 1e-9);
+  EXPECT_EQ(s->timeline["pairs"].size(), 12u);
   // The stage's inclinometer reading is the station's levelling.
   EXPECT_NEAR(m->calibration.stage.levelling_x_deg, station_->rig.inclinometer_x_deg, 1e-4);
   const PairRecord& p = m->pairs[3];
@@ -120,6 +134,19 @@ TEST_F(CaptureTest, CapturesACompleteValidPanorama) {
       ReadMonoPng(dir_ / ("S/" + p.left.file), PixelFormat::kMono8, 1392, 1040);
   ASSERT_TRUE(image.ok());
   EXPECT_GT(cv::mean(*image)[0], 30.0);
+}
+
+// `sim serve --prerender` renders the poses a capture with config/sim-rig.yaml will take.
+TEST_F(CaptureTest, SimServePrerendersThePlanOfTheSimulatedRigsConfig) {
+  const Result<RigConfig> rig = LoadRigConfig(TS_SOURCE_DIR "/config/sim-rig.yaml");
+  ASSERT_TRUE(rig.ok()) << rig.error();
+  const std::vector<StagePose> plan = MakeCapturePlan(rig->calibration, CapturePlanOptions{});
+  const std::vector<StagePose> prerendered = sim::DesignPlanTargets(*station_);
+  ASSERT_EQ(plan.size(), prerendered.size());
+  for (size_t i = 0; i < plan.size(); ++i) {
+    EXPECT_NEAR(plan[i].pan_deg, prerendered[i].pan_deg, 1e-9);
+    EXPECT_NEAR(plan[i].tilt_deg, prerendered[i].tilt_deg, 1e-9);
+  }
 }
 
 TEST_F(CaptureTest, ModbusNoiseOnTheSerialLineIsRetriedAway) {

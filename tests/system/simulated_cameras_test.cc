@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "devices/aravis_camera.h"
+#include "devices/modbus_stage.h"
 #include "sim/sim_server.h"
 
 namespace ts::sim {
@@ -81,6 +82,41 @@ TEST_F(SimulatedCameras, TriggeredFramesEqualTheOfflineRender) {
     EXPECT_EQ(cv::norm(grab->image, expected, cv::NORM_INF), 0.0) << serial;
     EXPECT_GT(cv::mean(grab->image)[0], 20.0);  // a real scene, not a blank buffer
   }
+}
+
+// `sim serve --prerender`: the views of the given targets are rendered before the server
+// starts; a frame there is served without waiting for a render, and is still the offline
+// render of the pose where the stage really came to rest.
+TEST_F(SimulatedCameras, PrerenderedPosesAreServedAtOnceAndEqualTheOfflineRender) {
+  SimServeOptions o = Options(15135);
+  const StagePose target{60.0, -12.0};
+  o.prerender_targets = {target, {90.0, -12.0}};
+  auto server = SimServer::Start(station_, o);
+  ASSERT_TRUE(server.ok()) << server.error();
+  StageEndpoint endpoint;
+  endpoint.port = 15135;
+  auto stage = OpenModbusStage(endpoint);
+  ASSERT_TRUE(stage.ok()) << stage.error();
+  ASSERT_TRUE((*stage)->Home(std::chrono::milliseconds(30000)).ok());
+  const Result<StagePose> at = (*stage)->MoveTo(target, 0.05, std::chrono::milliseconds(20000));
+  ASSERT_TRUE(at.ok()) << at.error();
+  const StagePose rest = (*server)->stage().Pose();
+  const StagePose predicted = (*server)->stage().RestingPose(target);
+  EXPECT_EQ(rest.pan_deg, predicted.pan_deg);
+  EXPECT_EQ(rest.tilt_deg, predicted.tilt_deg);
+  const MoveTiming timing = (*stage)->last_move_timing();
+  EXPECT_GT(timing.moving_s, 0.3);  // 12 deg of tilt at 30 deg/s, and 60 deg of pan
+  EXPECT_NEAR(timing.settling_s, 0.2, 0.1);
+  auto camera = Started("TS-SIM-L", PixelFormat::kMono8, 5000);
+  ASSERT_TRUE(camera.ok()) << camera.error();
+  const Result<Frame> grab = Grab(**camera);
+  ASSERT_TRUE(grab.ok()) << grab.error();
+  EXPECT_EQ(
+      cv::norm(grab->image, Offline(Side::kLeft, rest, 5000, PixelFormat::kMono8), cv::NORM_INF),
+      0.0);
+  const SimulatedCamera::Counters c = (*server)->camera(Side::kLeft).counters();
+  EXPECT_GE(c.frames, 1);
+  EXPECT_EQ(c.waited_for_render, 0);
 }
 
 // A frame that began before the trigger we wait for is an earlier one, arrived late: dropped.

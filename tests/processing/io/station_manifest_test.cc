@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "tests/common/station_fixture.h"
@@ -30,6 +31,27 @@ TEST(StationManifest, RoundTripsThroughJson) {
   EXPECT_EQ(back->FindPair(3), nullptr);
   // Serialising again gives the same document.
   EXPECT_EQ(ManifestToJson(*back), ManifestToJson(*LoadStationManifest(dir.path().string())));
+}
+
+// The capture timeline goes with its pair (a resume keeps it); a pair without one (a rendered
+// station) has none, and the report's timeline holds only the pairs that have one.
+TEST(StationManifest, CaptureTimelineRoundTripsAndSums) {
+  testing::TempDir dir;
+  StationManifest m = testing::MakeStation(dir.path().string(), 12, 3);
+  m.pairs[0].timeline = {0.8, 0.2, 0.5, 0.09, 1, 0.001, 0.1, 1.1};
+  m.pairs[2].timeline = {0.6, 0.2, 0.7, 0.11, 2, 0.003, 0.3, 1.3};
+  ASSERT_TRUE(SaveStationManifest(&m, dir.path().string()).ok());
+  const Result<StationManifest> back = LoadStationManifest(dir.path().string());
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_DOUBLE_EQ(back->pairs[2].timeline.trigger_to_frame_s, 0.11);
+  EXPECT_EQ(back->pairs[2].timeline.triggers, 2);
+  EXPECT_TRUE(std::isnan(back->pairs[1].timeline.move_s));
+  const json t = CaptureTimelineJson(back->pairs);
+  ASSERT_EQ(t["pairs"].size(), 2u);
+  EXPECT_EQ(t["pairs"][1]["pair"], 2);
+  EXPECT_DOUBLE_EQ(t["total_s"]["stage_wait_s"].get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(t["total_s"]["write_s"].get<double>(), 0.4);
+  EXPECT_TRUE(CaptureTimelineJson({back->pairs[1]}).is_null());
 }
 
 TEST(StationManifest, CanonicalImageNames) {
@@ -84,6 +106,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "calibration.cameras.left.width_px: must be in"},
         Mutation{"exposure", [](json& d) { d["pairs"][0]["exposure_us"] = 0; },
                  "pairs[0].exposure_us: must be positive"},
+        Mutation{"timeline",
+                 [](json& d) {
+                   d["pairs"][1]["timeline"] = {{"write_s", -1}};
+                 },
+                 "pairs[1].timeline.write_s: must not be negative"},
         Mutation{"not_object", [](json& d) { d = json::array(); }, "document: must be an object"}),
     [](const ::testing::TestParamInfo<Mutation>& info) { return std::string(info.param.name); });
 
