@@ -22,10 +22,6 @@ struct HeightBlunderOptions {
   // lie within layer_tolerance_m of its height (0: off): it belongs to a second surface of
   // the window, not a blunder. A tripod's cloud of a forest has two: at the edge of a grove,
   // where canopy fills most of a window, the ground seen beneath and beside it is such a layer.
-  // Measured on the simulated forest (`process`, seed 1): true-ground points flagged as
-  // blunders 6 785 -> 1 (2 645 of them 15-30 m out), DEM RMSE 0.247 -> 0.228 m, coverage
-  // within 30 m 90.2 -> 93.6 %, object points removed 99.74 -> 99.71 %; flat, hills and slope
-  // alike to the millimetre.
   int min_layer_points = 3;
   double layer_tolerance_m = 0.3;
   template <class Self, class V>

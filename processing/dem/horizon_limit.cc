@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 
 #include "processing/cloud/grid_index.h"
@@ -131,67 +132,83 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
   const int reach = static_cast<int>(
       std::ceil(beyond_possible ? std::max(o.edge_m, shadow_reach + 1.0) : o.edge_m));
   const int near_cells = static_cast<int>(std::ceil(o.near_m));
-  double lowered = 0.0;
-  for (int row = 0; row < dem->rows; ++row)
-    for (int col = 0; col < dem->cols; ++col) {
-      float& z = dem->at(row, col);
-      if (Raster::IsNoData(z)) continue;
-      const double x = dem->CellCentreX(col), y = dem->CellCentreY(row);
-      // Seen: a ground point within near_m. Beyond the edge: the ground within edge_m (one
-      // direction per grid cell) leaves a gap of more than 180 degrees.
-      const int c0 = grid.ColOf(x), r0 = grid.RowOf(y);
-      bool seen = false;
-      for (int r = r0 - near_cells; r <= r0 + near_cells && !seen; ++r)
-        for (int c = c0 - near_cells; c <= c0 + near_cells && !seen; ++c) {
-          if (!grid.Inside(c, r)) continue;
-          for (const int* i = grid.begin(c, r); i != grid.end(c, r) && !seen; ++i)
-            seen = std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y) <= o.near_m;
+  // Rows in parallel: a cell reads and writes only its own height; each row keeps its counts,
+  // summed in row order afterwards (the same result on any number of threads).
+  struct RowCounts {
+    int lowered = 0, in_object_shadows = 0, unexplained = 0;
+    double lowering_m = 0.0;
+  };
+  std::vector<RowCounts> counts(static_cast<size_t>(dem->rows));
+  cv::parallel_for_(cv::Range(0, dem->rows), [&](const cv::Range& rows) {
+    for (int row = rows.start; row < rows.end; ++row)
+      for (int col = 0; col < dem->cols; ++col) {
+        RowCounts& count = counts[static_cast<size_t>(row)];
+        float& z = dem->at(row, col);
+        if (Raster::IsNoData(z)) continue;
+        const double x = dem->CellCentreX(col), y = dem->CellCentreY(row);
+        // Seen: a ground point within near_m. Beyond the edge: the ground within edge_m (one
+        // direction per grid cell) leaves a gap of more than 180 degrees.
+        const int c0 = grid.ColOf(x), r0 = grid.RowOf(y);
+        bool seen = false;
+        for (int r = r0 - near_cells; r <= r0 + near_cells && !seen; ++r)
+          for (int c = c0 - near_cells; c <= c0 + near_cells && !seen; ++c) {
+            if (!grid.Inside(c, r)) continue;
+            for (const int* i = grid.begin(c, r); i != grid.end(c, r) && !seen; ++i)
+              seen = std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y) <= o.near_m;
+          }
+        if (seen) continue;
+        // The nearest ground point (when it may lie beyond data_reach_m) and the directions to
+        // the ground within edge_m, one per grid cell.
+        std::vector<double> directions;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int r = r0 - reach; r <= r0 + reach; ++r)
+          for (int c = c0 - reach; c <= c0 + reach; ++c) {
+            if (!grid.Inside(c, r) || grid.Count(c, r) == 0) continue;
+            if (beyond_possible)
+              for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
+                nearest = std::min(
+                    nearest, std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y));
+            const Eigen::Vector3d& p = ground_points[*grid.begin(c, r)];
+            if (std::hypot(p.x() - x, p.y() - y) <= o.edge_m)
+              directions.push_back(std::atan2(p.y() - y, p.x() - x));
+          }
+        const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
+        double slope = 0.0;
+        Setter setter = Setter::kOther;
+        const bool has_horizon =
+            horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
+        const double horizon = viewpoint.z() + run * slope;
+        if (nearest > data_reach_m) {
+          double ground_slope = 0.0;
+          Setter ground_setter = Setter::kGround;
+          const bool below_terrain_horizon =
+              ground_horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half,
+                                      &ground_slope, &ground_setter) &&
+              z < viewpoint.z() + run * ground_slope - o.tolerance_m;
+          if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon &&
+              !below_terrain_horizon) {
+            ++count.in_object_shadows;
+          } else {
+            z = Raster::kNoData;
+            if (std) std->at(row, col) = Raster::kNoData;
+            ++count.unexplained;
+          }
+          continue;
         }
-      if (seen) continue;
-      // The nearest ground point (when it may lie beyond data_reach_m) and the directions to
-      // the ground within edge_m, one per grid cell.
-      std::vector<double> directions;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int r = r0 - reach; r <= r0 + reach; ++r)
-        for (int c = c0 - reach; c <= c0 + reach; ++c) {
-          if (!grid.Inside(c, r) || grid.Count(c, r) == 0) continue;
-          if (beyond_possible)
-            for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i)
-              nearest = std::min(nearest,
-                                 std::hypot(ground_points[*i].x() - x, ground_points[*i].y() - y));
-          const Eigen::Vector3d& p = ground_points[*grid.begin(c, r)];
-          if (std::hypot(p.x() - x, p.y() - y) <= o.edge_m)
-            directions.push_back(std::atan2(p.y() - y, p.x() - x));
-        }
-      const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
-      double slope = 0.0;
-      Setter setter = Setter::kOther;
-      const bool has_horizon =
-          horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
-      const double horizon = viewpoint.z() + run * slope;
-      if (nearest > data_reach_m) {
-        double ground_slope = 0.0;
-        Setter ground_setter = Setter::kGround;
-        const bool below_terrain_horizon =
-            ground_horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half,
-                                    &ground_slope, &ground_setter) &&
-            z < viewpoint.z() + run * ground_slope - o.tolerance_m;
-        if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon &&
-            !below_terrain_horizon) {
-          ++result.cells_in_object_shadows;
-        } else {
-          z = Raster::kNoData;
-          if (std) std->at(row, col) = Raster::kNoData;
-          ++result.cells_unexplained;
-        }
-        continue;
+        if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
+        if (!has_horizon || setter != Setter::kGround || z <= horizon + o.tolerance_m) continue;
+        count.lowering_m += z - horizon;
+        z = static_cast<float>(horizon);
+        ++count.lowered;
       }
-      if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
-      if (!has_horizon || setter != Setter::kGround || z <= horizon + o.tolerance_m) continue;
-      lowered += z - horizon;
-      z = static_cast<float>(horizon);
-      ++result.cells_lowered;
-    }
+  });
+  double lowered = 0.0;
+  for (const RowCounts& c : counts) {
+    result.cells_lowered += c.lowered;
+    result.cells_in_object_shadows += c.in_object_shadows;
+    result.cells_unexplained += c.unexplained;
+    lowered += c.lowering_m;
+  }
   if (result.cells_lowered > 0) result.mean_lowering_m = lowered / result.cells_lowered;
   return result;
 }

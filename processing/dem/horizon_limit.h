@@ -26,10 +26,7 @@
 // such cell becomes nodata. Its kriging standard deviation says how far it reached.
 //
 // The horizon comes from the points that were matched: where seen ground went unmatched it
-// lies too low, which is why only extrapolated cells are lowered. Measured (simulated
-// stations, `process` of 12 pairs; RMSE before / after): hills 0.176 / 0.166 m, and at other
-// seeds 0.398 / 0.350 and 0.218 / 0.203 m; slope 0.055 / 0.054 m; forest 0.228 / 0.228 m
-// (seeds 2-4: 0.623 / 0.614, 0.421 / 0.420, 0.148 / 0.150 m); flat unchanged.
+// lies too low, which is why only extrapolated cells are lowered.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
@@ -49,11 +46,8 @@ struct HorizonLimitOptions {
   double bin_half_width_deg = 1.0;  // the lines of sight that make a cell's horizon
   double tolerance_m = 0.2;         // above the horizon by more than this: lowered
   // Kriging's reach in the shadow of an object (see above); at most data_reach_m: none.
-  // Measured on the simulated forest (seed 1; reach 5.5 m elsewhere), object shadow reach 0 / 7 /
-  // 8 m: survey capture RMSE 0.216 / 0.253 / 0.277 m, coverage within 30 m 91.9 / 95.8 / 98.0 %;
-  // another rendering 0.289 / 0.324 / 0.345 m, 90.9 / 95.0 / 97.1 %; hills and slope within
-  // 3 mm, coverage unchanged. A uniform reach of 6.5 m instead: hills seeds 2 and 3 0.386 ->
-  // 0.462 and 0.212 -> 0.279 m (hollows behind brows).
+  // Only there: where nothing explains a gap (hollows behind brows), a longer reach bridges
+  // ground that is not there.
   double object_shadow_reach_m = 7.0;
   // An object point stands this far above the DEM at least (lower ones are terrain that the
   // ground filter left out, at brows and rough ground).

@@ -49,8 +49,9 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
         if (std::max(std::abs(r - r0), std::abs(c - c0)) != ring || !grid.Inside(c, r)) continue;
         for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
           const double dx = points[*i].x() - x, dy = points[*i].y() - y;
-          const double d = std::hypot(dx, dy);
-          if (d <= radius) candidates.push_back({d, *i, (dx >= 0) + 2 * (dy >= 0)});
+          const double d2 = dx * dx + dy * dy;  // hypot's overflow guard costs here
+          if (d2 <= radius * radius)
+            candidates.push_back({std::sqrt(d2), *i, (dx >= 0) + 2 * (dy >= 0)});
         }
       }
     // Every point within `ring` cells is in; enough of them that close: stop.

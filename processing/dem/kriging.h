@@ -30,20 +30,20 @@ namespace ts {
 struct KrigingOptions {
   int neighbours = 16;            // at most, a quarter per quadrant where the points allow
   double search_radius_m = 15.0;  // no neighbour farther than this
-  // Nodata where the nearest point is farther. Measured on the simulated hills (holes behind
-  // brows), universal kriging, 20 cm point spacing: 5 / 5.5 / 6 m give RMSE 0.174 / 0.180 /
-  // 0.198 m at coverage within 30 m of 95.1 / 95.2-95.6 / 96.2 %; the kriging std of each cell
-  // says how far it reached. (`process` reaches farther in the shadows of objects:
+  // Nodata where the nearest point is farther: a trade of coverage behind brows against the
+  // error of cells reached from afar; the kriging std of each cell says how far it reached.
+  // (`process` reaches farther in the shadows of objects:
   // HorizonLimitOptions::object_shadow_reach_m.)
   double max_distance_m = 5.5;
   double thin_cell_m = 0.25;  // 0: no thinning
   // Universal kriging with a local linear drift (x, y in the unbiasedness constraints) instead
-  // of ordinary kriging. Measured on the simulated slope (20 deg): RMSE 0.27 -> 0.08 m.
+  // of ordinary kriging: on sloping ground ordinary kriging pulls every cell to its
+  // neighbours' mean, so a slope comes out terraced.
   bool linear_drift = true;
   // Neighbours for a cell beyond the edge of the data (all its neighbours on one side), where the
-  // drift is extrapolated; no more than `neighbours` turns this off. Measured on the simulated
-  // forest, where the last metre before an occlusion shadow often slopes (tree bases, canopy
-  // edges): DEM RMSE 0.364 -> 0.343 m with 64; hills 0.170 -> 0.174 m.
+  // drift is extrapolated and a few metres of neighbours would decide its slope; more of them
+  // steady it (the last metre before an occlusion shadow often slopes: tree bases, canopy
+  // edges). No more than `neighbours` turns this off.
   int extrapolation_neighbours = 64;
   VariogramOptions variogram;
   template <class Self, class V>

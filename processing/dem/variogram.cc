@@ -55,7 +55,10 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
     for (size_t b = a + 1; b < sample.size(); ++b) {
       const Eigen::Vector3d& p = points[sample[a]];
       const Eigen::Vector3d& q = points[sample[b]];
-      const double h = std::hypot(p.x() - q.x(), p.y() - q.y());
+      // sqrt, not hypot: no overflow to guard against at these scales, and this loop runs
+      // millions of times.
+      const double dx = p.x() - q.x(), dy = p.y() - q.y();
+      const double h = std::sqrt(dx * dx + dy * dy);
       if (h >= o.short_lag_m) add(p, q, h);
     }
   if (short_bins > 0 && !points.empty()) {

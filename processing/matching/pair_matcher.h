@@ -62,31 +62,21 @@ struct PairMatchOptions {
   // a stereo pair without a known geometry; -1 = derive it from the depths.
   int min_disparity_px = -1;
   int max_disparity_px = -1;
-  // 21 x 21 windows along the rows (the images are rectified). Measured (bench_matching, 12
-  // hills pairs, 2 cores): the row-only fit at sigma <= 0.06 px against the full affine one at
-  // 0.08 px: median |error| 0.050 / 0.056 px, p95 0.22 / 0.27 px, share off by > 1 px 0.23 /
-  // 0.35 %, match + intersect 2.5 / 3.6 s. A sigma above the limit marks most blunders
-  // (windows across a crest); with the way back allowed 2 px (below) the limits 0.05 / 0.048 /
-  // 0.045 px give median 0.0502 / 0.0498 / 0.0490 px at 30.6 / 30.3 / 29.6 k ground points
-  // within 50 m a pair. The error is noise-limited: larger windows help near the tripod and
-  // hurt far out (a window of far ground spans metres of it in depth).
+  // 21 x 21 windows fitted along the rows only (the images are rectified, so a full affine
+  // fit only adds parameters the geometry already fixes). A sigma above the limit marks most
+  // blunders (windows across a crest). The error is noise-limited: larger windows help near
+  // the tripod and hurt far out, where a window of ground spans metres of it in depth.
   LsmOptions lsm = StereoLsm(10);
   // Points nearer than this (by the pyramid's approximation) are least-squares matched on the
   // half-resolution images: there a pixel is a few millimetres of ground, the texture is smooth
   // at full resolution, and a window of the same size at half resolution sees four times the
-  // ground with half the noise per pixel (their template centres move to even pixels). 0: never.
-  // Measured (one pair each, median |error| within 5 m / 5-10 m, px): flat 0.048 / 0.058 at
-  // full resolution, 0.037 / 0.049 with 7 m; hills 0.062 / 0.062 and 0.056 / 0.063; with 10 m
-  // hills 5-10 m gets worse (0.071: the window's ground is curved over a metre of depth).
+  // ground with half the noise per pixel (their template centres move to even pixels). Much
+  // farther, the window's ground curves over its depth. 0: never.
   double half_resolution_within_m = 7.0;
   // Their windows, in full-resolution pixels for the thresholds (halved at half resolution):
   // 17 x 17 pixels there still see 2.6 times the ground of a 21 x 21 window at full
   // resolution, for 35 % less work; the sigma limit grows with the fewer pixels (sqrt(441 /
-  // 289)), so that the same precision of the ground passes. Measured (bench_matching, 12 pairs
-  // each, 21 x 21 at 0.048 px / 17 x 17 at 0.059 px): flat median |error| 0.046 / 0.049 px,
-  // ground points a pair 37.98 / 38.16 k; hills 0.0498 / 0.0494 px, 30.25 / 30.37 k, RMS error
-  // / sigma 1.15 / 1.34; the flat station's matching 7 % faster (1 core, 4 pairs, best of 5;
-  // half its points are near). At 0.048 px hills kept only 28.9 k ground points a pair.
+  // 289)), so that the same precision of the ground passes.
   LsmOptions near_lsm = [] {
     LsmOptions n = StereoLsm(8);
     n.max_sigma_px = 0.059;
@@ -95,21 +85,15 @@ struct PairMatchOptions {
   // Points farther than this are least-squares matched with far_lsm's wide, low windows: a
   // square window of far ground spans metres of it in depth (at 30 m each image row is ~40 cm
   // of ground seen from 1.5 m), where the ground is not the plane an affine fit assumes; the
-  // rows a low window leaves out are those metres. 0: never. Measured on a hills pair (21 x 21
-  // everywhere / 29 x 9 beyond 12 m): median |error| 10-20 m 0.072 / 0.070 px, 20-40 m
-  // 0.118 / 0.070 px, beyond 40 m 0.117 / 0.045 px; share off by > 1 px 0.24 / 0.08 %; RMS
-  // error / sigma 20-40 m 3.8 / 1.7. Over the 12 pairs (bench_matching) from 12 m the median
-  // rose (0.050 -> 0.053 px: 10-20 m is better square); from 20 m: median 0.050, p95 0.24 ->
-  // 0.22 px, share off by > 1 px 0.23 -> 0.08 %.
+  // rows a low window leaves out are those metres. Nearer, square windows are better. 0: never.
   double far_window_from_m = 20.0;
   LsmOptions far_lsm = StereoLsm(14, 4);
-  // The right image's integer disparity may differ this much. Measured on a hills pair, 1 / 2
-  // px: 33.2 / 35.2 k matches, median |error| 0.063 / 0.063 px, share off by > 1 px 0.12 /
-  // 0.14 % (the sigma limit and the sub-pixel check below catch what 2 px lets through).
+  // The right image's integer disparity may differ this much on the way back (the sigma
+  // limit and the sub-pixel check catch what the slack lets through).
   int max_consistency_px = 2;
   // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
   // resampling correlate neighbouring pixels, so the reported sigma is this times it
-  // (measured on the simulator's true ranges: see bench_matching).
+  // (calibrated against the simulator's true ranges in bench_matching).
   double sigma_scale = 3.0;
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
