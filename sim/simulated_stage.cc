@@ -87,7 +87,10 @@ StagePose SimulatedStage::Pose() const {
 
 StagePose SimulatedStage::RestingPose(const StagePose& target) const {
   std::lock_guard lock(mutex_);
-  return {pan_.RestingDeg(target.pan_deg), tilt_.RestingDeg(target.tilt_deg)};
+  // The target as the register holds it (millidegrees), as a move takes it.
+  auto registered = [](double deg) { return Millidegrees(deg) / 1000.0; };
+  return {pan_.RestingDeg(registered(target.pan_deg)),
+          tilt_.RestingDeg(registered(target.tilt_deg))};
 }
 
 void SimulatedStage::SetOnMoveStarted(std::function<void(const StagePose&)> callback) {

@@ -89,7 +89,7 @@ TEST_F(SimulatedCameras, TriggeredFramesEqualTheOfflineRender) {
 // render of the pose where the stage really came to rest.
 TEST_F(SimulatedCameras, PrerenderedPosesAreServedAtOnceAndEqualTheOfflineRender) {
   SimServeOptions o = Options(15135);
-  const StagePose target{60.0, -12.0};
+  const StagePose target{60.0, -12.3456789};  // finer than the target register's millidegree
   o.prerender_targets = {target, {90.0, -12.0}};
   auto server = SimServer::Start(station_, o);
   ASSERT_TRUE(server.ok()) << server.error();
