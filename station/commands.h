@@ -27,6 +27,7 @@ void AddProcessCommands(CLI::App& app);  // process, evaluate, ground-filter
 void AddSurveyCommand(CLI::App& app);
 void AddTerrainCorrectionCommand(CLI::App& app);
 void AddDiffCommand(CLI::App& app);
+void AddCalibrateCommand(CLI::App& app);
 
 // Shared by the commands that chain them (survey): each throws CommandError on failure.
 // observer (optional) sees every capture event, e.g. to hand each committed pair to an

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   ts::AddSurveyCommand(app);
   ts::AddTerrainCorrectionCommand(app);
   ts::AddDiffCommand(app);
+  ts::AddCalibrateCommand(app);
   ts::SetProgramArguments(argc, argv);
   try {
     app.parse(argc, argv);

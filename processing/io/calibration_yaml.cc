@@ -175,4 +175,30 @@ Status SaveCalibrationYaml(const Calibration& calibration, const std::string& fi
   return WriteFileAtomically(file, CalibrationToYaml(calibration));
 }
 
+std::string CameraCalibrationToYaml(
+    const CameraIntrinsics& camera,
+    const std::array<double, CameraIntrinsics::kNumParameters>& sigma, double rms_px) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
+  EmitCamera(out, "camera", camera);
+  out << YAML::Key << "sigma" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  for (int i = 0; i < CameraIntrinsics::kNumParameters; ++i)
+    out << YAML::Key << CameraIntrinsics::kParameterNames[i] << YAML::Value << sigma[i];
+  out << YAML::EndMap;
+  out << YAML::Key << "rms_px" << YAML::Value << rms_px;
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file) {
+  try {
+    YamlMap root(LoadYamlFile(file), "");
+    return ParseCamera(root.Map("camera"));
+  } catch (const ConfigError& e) {
+    return Error{file + ": " + e.what()};
+  }
+}
+
 }  // namespace ts

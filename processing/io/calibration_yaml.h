@@ -25,6 +25,7 @@
 //     tilt_axis_skew_deg: 0
 //     rig_offset_m: [0, 0, 0]
 //     rig_rotation_opk_deg: [0, 0, 0]
+#include <array>
 #include <string>
 
 #include "core/result.h"
@@ -44,5 +45,16 @@ Calibration ParseCalibration(YamlMap map);
 std::string CalibrationToYaml(const Calibration& calibration);
 // Written atomically (see atomic_file.h).
 Status SaveCalibrationYaml(const Calibration& calibration, const std::string& file);
+
+// One camera's calibration (`calibrate camera`): the fields of cameras.left above under
+// `camera:`, each parameter's a posteriori sigma under `sigma:` (kParameterNames) and the RMS.
+//   schema_version: 1
+//   camera: {width_px: 640, ...}
+//   sigma: {c: 0.9, xp: 0.6, ...}
+//   rms_px: 0.26
+std::string CameraCalibrationToYaml(
+    const CameraIntrinsics& camera,
+    const std::array<double, CameraIntrinsics::kNumParameters>& sigma, double rms_px);
+Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file);
 
 }  // namespace ts
