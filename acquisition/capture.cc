@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "core/log.h"
+#include "core/seconds.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
@@ -25,8 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 std::string PairName(int index) {
   char name[16];
@@ -242,7 +241,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
             std::to_string(missing.size()) + " of " + std::to_string(summary.total_pairs) +
                 " pairs to capture"});
   if (missing.empty()) {
-    summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    summary.seconds = Seconds(Clock::now() - t0);
     return summary;
   }
 
@@ -315,7 +314,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   summary.exposure_us = seq.exposure_us;
   summary.timeline = CaptureTimelineJson(
       std::vector<PairRecord>(m->pairs.end() - summary.captured_now, m->pairs.end()));
-  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  summary.seconds = Seconds(Clock::now() - t0);
   seq.Emit({CaptureEventKind::kFinished, -1, summary.total_pairs, ""});
   return summary;
 }

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/log.h"
+#include "core/seconds.h"
 #include "core/stage_registers.h"
 
 namespace ts {
@@ -24,7 +25,6 @@ bool ModbusStageOptions::Check(std::string* why) const { return CheckDeclaredOpt
 
 namespace {
 
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 uint16_t Base(Axis axis) { return axis == Axis::kPan ? reg::kPanBase : reg::kTiltBase; }
 int32_t Millidegrees(double deg) { return static_cast<int32_t>(std::lround(deg * 1000.0)); }
 

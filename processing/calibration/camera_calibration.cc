@@ -131,10 +131,10 @@ void MeasureResiduals(const PlanarViews& views, const std::vector<std::array<dou
   const CameraModel camera(result->intrinsics);
   double total = 0.0;
   for (size_t v = 0; v < views.pixels.size(); ++v) {
-    Eigen::Vector3d axis(poses[v][0], poses[v][1], poses[v][2]);
-    const double angle = axis.norm();
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    if (angle > 0.0) pose.linear() = Eigen::AngleAxisd(angle, axis / angle).toRotationMatrix();
+    Eigen::Matrix3d rotation;  // column-major, as Ceres writes it
+    ceres::AngleAxisToRotationMatrix(poses[v].data(), rotation.data());
+    pose.linear() = rotation;
     pose.translation() = Eigen::Vector3d(poses[v][3], poses[v][4], poses[v][5]);
     result->camera_from_target.push_back(pose);
     double view = 0.0;
