@@ -1,7 +1,8 @@
-// topostation calibrate camera: one camera's interior orientation from chessboard views
-// (issue 20, part 1 of the calibration commands).
+// topostation calibrate camera | stereo: a camera's interior orientation, or both cameras' and
+// their relative orientation in one adjustment, from chessboard views (issue 20).
 #include <glob.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -19,40 +20,52 @@
 namespace ts {
 namespace {
 
-struct CalibrateCameraArgs {
-  std::string images;
+struct CalibrateArgs {
+  std::string images, left, right;
   std::string board_size = "9x6";
   ChessboardOptions board;
   CameraCalibrationOptions options;
+  std::string stage_from;
   std::string out;
   bool json = false;
 };
 
-std::vector<std::string> ExpandGlob(const std::string& pattern) {
+std::vector<std::string> ExpandGlob(const std::string& flag, const std::string& pattern) {
   glob_t matches{};
   std::vector<std::string> files;
   if (::glob(pattern.c_str(), 0, nullptr, &matches) == 0)
     for (size_t i = 0; i < matches.gl_pathc; ++i) files.emplace_back(matches.gl_pathv[i]);
   ::globfree(&matches);
-  return files;
+  if (files.empty()) throw CommandError(flag + ": no file matches '" + pattern + "'");
+  return files;  // glob sorts them
 }
 
-// The board in every image; an image without it is named in the log and skipped.
-PlanarViews DetectBoards(const std::vector<std::string>& files, const ChessboardOptions& board,
-                         cv::Size* size, std::vector<std::string>* skipped) {
-  PlanarViews views;
+void ParseBoard(CalibrateArgs* args) {
+  if (!ParseBoardSize(args->board_size, &args->board))
+    throw CommandError("--chessboard: expected COLUMNSxROWS of inner corners, e.g. 9x6, got '" +
+                       args->board_size + "'");
+  std::string why;
+  if (!args->board.Check(&why)) throw CommandError("--chessboard: " + why);
+}
+
+// The board in every image, the placement its index in the list; an image without the board
+// is named in the log and skipped.
+TargetViews DetectBoards(const std::vector<std::string>& files, const ChessboardOptions& board,
+                         std::vector<std::string>* skipped) {
+  TargetViews views;
   views.target = ChessboardCorners(board);
-  for (const std::string& file : files) {
+  for (size_t i = 0; i < files.size(); ++i) {
+    const std::string& file = files[i];
     const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
     if (grey.empty()) throw CommandError(file + ": not a readable image");
-    if (size->area() == 0) *size = grey.size();
-    if (grey.size() != *size)
+    if (views.width_px == 0) views.width_px = grey.cols, views.height_px = grey.rows;
+    if (grey.cols != views.width_px || grey.rows != views.height_px)
       throw CommandError(file + ": " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
-                         " pixels, the first image has " + std::to_string(size->width) + "x" +
-                         std::to_string(size->height));
+                         " pixels, the first image has " + std::to_string(views.width_px) + "x" +
+                         std::to_string(views.height_px));
     if (auto corners = DetectChessboard(grey, board)) {
-      views.names.push_back(std::filesystem::path(file).filename().string());
-      views.pixels.push_back(*corners);
+      views.AddFullView(std::filesystem::path(file).filename().string(), static_cast<int>(i),
+                        *corners);
     } else {
       skipped->push_back(file);
       Log().warn("{}: no {}x{} chessboard found; view skipped", file, board.columns, board.rows);
@@ -61,10 +74,9 @@ PlanarViews DetectBoards(const std::vector<std::string>& files, const Chessboard
   return views;
 }
 
-nlohmann::json ResultJson(const CameraCalibration& c, const std::vector<std::string>& skipped,
-                          const std::string& out) {
+nlohmann::json CameraJson(const CameraCalibration& c) {
   nlohmann::json sigma = nlohmann::json::object();
-  for (int i = 0; i < CameraIntrinsics::kNumParameters; ++i)
+  for (int i = 0; i < kIntrinsicCount; ++i)
     sigma[CameraIntrinsics::kParameterNames[i]] = c.sigma[i];
   return {{"rms_px", c.rms_px},
           {"sigma0_px", c.sigma0_px},
@@ -72,6 +84,7 @@ nlohmann::json ResultJson(const CameraCalibration& c, const std::vector<std::str
           {"fy", c.fy()},
           {"cx", c.cx()},
           {"cy", c.cy()},
+          {"c", c.intrinsics.principal_distance_px},
           {"k1", c.intrinsics.k1},
           {"k2", c.intrinsics.k2},
           {"k3", c.intrinsics.k3},
@@ -81,41 +94,137 @@ nlohmann::json ResultJson(const CameraCalibration& c, const std::vector<std::str
           {"shear", c.intrinsics.shear},
           {"sigma", sigma},
           {"high_correlations", c.high_correlations},
+          {"fixed_insignificant", c.fixed_insignificant},
           {"views_used", c.view_rms_px.size()},
-          {"views_skipped", skipped},
+          {"view_names", c.view_names},
           {"view_rms_px", c.view_rms_px},
           {"observations", c.observations},
-          {"out", out}};
+          {"rejected", c.rejected},
+          {"warnings", c.warnings}};
 }
 
-void RunCalibrateCamera(CalibrateCameraArgs args) {
-  if (!ParseBoardSize(args.board_size, &args.board))
-    throw CommandError("--chessboard: expected COLUMNSxROWS of inner corners, e.g. 9x6, got '" +
-                       args.board_size + "'");
-  std::string why;
-  if (!args.board.Check(&why)) throw CommandError("--chessboard: " + why);
-  const std::vector<std::string> files = ExpandGlob(args.images);
-  if (files.empty()) throw CommandError("--images: no file matches '" + args.images + "'");
-  cv::Size size;
+CameraPrecision PrecisionOf(const CameraCalibration& c) {
+  return {true, c.sigma, c.covariance, c.rms_px};
+}
+
+void PrintCamera(const char* name, const CameraCalibration& c) {
+  std::printf(
+      "%s: %zu views, RMS %.3f px; c %.2f +- %.2f px, principal point %.2f %.2f (+- %.2f %.2f) "
+      "px; %d of %d observations rejected\n",
+      name, c.view_rms_px.size(), c.rms_px, c.intrinsics.principal_distance_px, c.sigma[0], c.cx(),
+      c.cy(), c.sigma[1], c.sigma[2], c.rejected, c.observations);
+  for (const std::string& term : c.fixed_insignificant)
+    std::printf("  fixed at zero, not significant: %s\n", term.c_str());
+  for (const std::string& pair : c.high_correlations)
+    std::printf("  correlated parameters %s\n", pair.c_str());
+  for (const std::string& w : c.warnings) std::printf("warning: %s: %s\n", name, w.c_str());
+}
+
+void RunCalibrateCamera(CalibrateArgs args) {
+  ParseBoard(&args);
+  const std::vector<std::string> files = ExpandGlob("--images", args.images);
   std::vector<std::string> skipped;
-  const PlanarViews views = DetectBoards(files, args.board, &size, &skipped);
-  const Result<CameraCalibration> c = CalibrateCamera(views, size.width, size.height, args.options);
+  const TargetViews views = DetectBoards(files, args.board, &skipped);
+  const Result<CameraCalibration> c = CalibrateCamera(views, args.options);
   if (!c)
-    throw CommandError(c.error() + " (" + std::to_string(views.pixels.size()) + " of " +
+    throw CommandError(c.error() + " (" + std::to_string(views.views.size()) + " of " +
                        std::to_string(files.size()) + " images show the board)");
-  const std::string yaml = CameraCalibrationToYaml(c->intrinsics, c->sigma, c->rms_px);
+  const std::string yaml = CameraCalibrationToYaml(c->intrinsics, PrecisionOf(*c));
   if (Status s = WriteFileAtomically(args.out, yaml); !s) throw CommandError(s.error());
   if (args.json) {
-    std::printf("%s\n", ResultJson(*c, skipped, args.out).dump().c_str());
+    nlohmann::json j = CameraJson(*c);
+    j["views_skipped"] = skipped;
+    j["out"] = args.out;
+    std::printf("%s\n", j.dump().c_str());
     return;
   }
+  PrintCamera("camera", *c);
+  std::printf("written %s\n", args.out.c_str());
+}
+
+// The stereo result as a calibration `process` reads: the stage kinematics and the rig's roll
+// about its baseline from --stage-from (the stage is calibrated on the rig, not on a board), or
+// the ideal stage and the roll that levels the mean viewing axis.
+Calibration CalibrationOf(const StereoCalibration& s, const std::string& stage_from) {
+  Calibration cal;
+  cal.rig = s.Rig(1.0);
+  if (!stage_from.empty()) {
+    const Result<Calibration> previous = LoadCalibrationYaml(stage_from);
+    if (!previous) throw CommandError("--stage-from: " + previous.error());
+    cal.stage = previous->stage;
+    // X_S stays the calibrated baseline; Y_S as near the previous rig's as that allows.
+    const Eigen::Vector3d x = cal.rig.S_from_left.row(0).transpose();
+    const Eigen::Vector3d previous_y = previous->rig.S_from_left.row(1).transpose();
+    const Eigen::Vector3d y = (previous_y - previous_y.dot(x) * x).normalized();
+    cal.rig.S_from_left.row(1) = y.transpose();
+    cal.rig.S_from_left.row(2) = x.cross(y).transpose();
+  }
+  cal.left_precision = PrecisionOf(s.left);
+  cal.right_precision = PrecisionOf(s.right);
+  cal.stereo_precision = {true, s.baseline_sigma, s.angles_sigma_deg, s.covariance, s.rms_px};
+  return cal;
+}
+
+void RunCalibrateStereo(CalibrateArgs args) {
+  ParseBoard(&args);
+  const std::vector<std::string> left_files = ExpandGlob("--left", args.left);
+  const std::vector<std::string> right_files = ExpandGlob("--right", args.right);
+  if (left_files.size() != right_files.size())
+    throw CommandError("--right: " + std::to_string(right_files.size()) + " images, --left has " +
+                       std::to_string(left_files.size()) +
+                       ": the views are paired in sorted order");
+  std::vector<std::string> skipped;
+  const TargetViews left = DetectBoards(left_files, args.board, &skipped);
+  const TargetViews right = DetectBoards(right_files, args.board, &skipped);
+  const Result<StereoCalibration> s = CalibrateStereo(left, right, args.options);
+  if (!s)
+    throw CommandError(s.error() + " (the board found in " + std::to_string(left.views.size()) +
+                       " left and " + std::to_string(right.views.size()) + " right images)");
+  const Calibration cal = CalibrationOf(*s, args.stage_from);
+  std::string why;
+  if (!cal.Check(&why)) throw CommandError("the stereo calibration is not a valid rig: " + why);
+  if (Status st = SaveCalibrationYaml(cal, args.out); !st) throw CommandError(st.error());
+  if (args.json) {
+    const nlohmann::json stereo = {
+        {"rms_px", s->rms_px},
+        {"sigma0_px", s->sigma0_px},
+        {"baseline", s->baseline},
+        {"baseline_sigma", s->baseline_sigma},
+        {"angles_deg", {s->angles_deg.x(), s->angles_deg.y(), s->angles_deg.z()}},
+        {"angles_sigma_deg",
+         {s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z()}},
+        {"observations", s->observations},
+        {"rejected", s->rejected}};
+    const nlohmann::json j = {
+        {"left", CameraJson(s->left)}, {"right", CameraJson(s->right)}, {"stereo", stereo},
+        {"views_skipped", skipped},    {"warnings", s->warnings},       {"out", args.out}};
+    std::printf("%s\n", j.dump().c_str());
+    return;
+  }
+  PrintCamera("left", s->left);
+  PrintCamera("right", s->right);
   std::printf(
-      "%zu of %zu views: RMS %.3f px; c %.2f +- %.2f px, principal point %.2f %.2f "
-      "(+- %.2f %.2f) px; %s\n",
-      views.pixels.size(), files.size(), c->rms_px, c->intrinsics.principal_distance_px,
-      c->sigma[0], c->cx(), c->cy(), c->sigma[1], c->sigma[2], args.out.c_str());
-  for (const std::string& pair : c->high_correlations)
-    std::printf("warning: correlated parameters %s\n", pair.c_str());
+      "stereo: RMS %.3f px; baseline %.5f +- %.5f; omega phi kappa %.4f %.4f %.4f (+- %.4f %.4f "
+      "%.4f) deg\nwritten %s\n",
+      s->rms_px, s->baseline, s->baseline_sigma, s->angles_deg.x(), s->angles_deg.y(),
+      s->angles_deg.z(), s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z(),
+      args.out.c_str());
+}
+
+void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
+  cmd->add_option("--chessboard", args->board_size,
+                  "inner corners COLUMNSxROWS (default " + args->board_size + ")");
+  AddDeclaredOption(cmd, "--square", args->board, "square");
+  AddDeclaredOption(cmd, "--fix-principal-point", args->options, "fix_principal_point");
+  AddDeclaredOption(cmd, "--fix-k3", args->options, "fix_k3");
+  AddDeclaredOption(cmd, "--fix-tangential", args->options, "fix_tangential");
+  AddDeclaredOption(cmd, "--fix-scale-x", args->options, "fix_scale_x");
+  AddDeclaredOption(cmd, "--keep-all-terms", args->options, "keep_all_terms");
+  AddDeclaredOption(cmd, "--significance-t", args->options, "significance_t");
+  AddDeclaredOption(cmd, "--huber-px", args->options, "adjustment.huber_px");
+  AddDeclaredOption(cmd, "--reject-k", args->options, "adjustment.rejection_k");
+  AddDeclaredOption(cmd, "--rejection-rounds", args->options, "adjustment.max_rejection_rounds");
+  cmd->add_flag("--json", args->json, "print the result as JSON");
 }
 
 }  // namespace
@@ -123,20 +232,27 @@ void RunCalibrateCamera(CalibrateCameraArgs args) {
 void AddCalibrateCommand(CLI::App& app) {
   CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate the cameras");
   calibrate->require_subcommand(1);
-  auto args = std::make_shared<CalibrateCameraArgs>();
+  auto camera_args = std::make_shared<CalibrateArgs>();
   CLI::App* camera = calibrate->add_subcommand(
       "camera", "One camera's interior orientation from chessboard views (Ceres adjustment)");
-  camera->add_option("--images", args->images, "the views, a glob ('cal/left*.png')")->required();
-  camera->add_option("--chessboard", args->board_size,
-                     "inner corners COLUMNSxROWS (default " + args->board_size + ")");
-  AddDeclaredOption(camera, "--square", args->board, "square");
-  AddDeclaredOption(camera, "--fix-k3", args->options, "fix_k3");
-  AddDeclaredOption(camera, "--fix-tangential", args->options, "fix_tangential");
-  AddDeclaredOption(camera, "--fix-scale-x", args->options, "fix_scale_x");
-  AddDeclaredOption(camera, "--huber-px", args->options, "huber_px");
-  camera->add_option("--out", args->out, "camera calibration file (YAML) to write")->required();
-  camera->add_flag("--json", args->json, "print the result as JSON");
-  camera->callback([args] { RunCalibrateCamera(*args); });
+  camera->add_option("--images", camera_args->images, "the views, a glob ('cal/left*.png')")
+      ->required();
+  AddAdjustmentFlags(camera, camera_args.get());
+  camera->add_option("--out", camera_args->out, "camera calibration file (YAML) to write")
+      ->required();
+  camera->callback([camera_args] { RunCalibrateCamera(*camera_args); });
+
+  auto stereo_args = std::make_shared<CalibrateArgs>();
+  CLI::App* stereo = calibrate->add_subcommand(
+      "stereo", "Both cameras and their relative orientation in one adjustment");
+  stereo->add_option("--left", stereo_args->left, "the left views, a glob; paired in sorted order")
+      ->required();
+  stereo->add_option("--right", stereo_args->right, "the right views, a glob")->required();
+  AddAdjustmentFlags(stereo, stereo_args.get());
+  stereo->add_option("--stage-from", stereo_args->stage_from,
+                     "keep the stage kinematics and the rig's roll from this calibration");
+  stereo->add_option("--out", stereo_args->out, "calibration file (YAML) for process")->required();
+  stereo->callback([stereo_args] { RunCalibrateStereo(*stereo_args); });
 }
 
 }  // namespace ts

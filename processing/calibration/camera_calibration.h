@@ -1,13 +1,11 @@
 #pragma once
-// One camera's interior orientation from views of a planar target (a chessboard): a bundle
-// adjustment (Ceres) of the project's one camera model (camera_model.h) and every view's
-// pose, minimising the reprojection error in measured pixels, as OpenCV's calibrateCamera
-// does, so that the two RMS compare. Starts from Zhang's closed form (OpenCV's
-// initCameraMatrix2D) and each view's resection (solvePnP).
-//
-// The a posteriori figures: sigma0 (of one image coordinate, from the residuals and the
-// redundancy), each parameter's sigma from the covariance of the adjustment (ceres::Covariance)
-// scaled by sigma0^2, and the correlations above 0.9 named. Any parameter may be held fixed.
+// One camera's interior orientation, and the stereo pair's, from views of a target (a
+// chessboard, a ChArUco board, a control field): the adjustment of target_adjustment.h with
+// what a calibration user asks of it. Each parameter's sigma from the covariance scaled by
+// sigma0^2, the correlations above 0.9 named, the share of observations rejected (a warning
+// above 3 %), the distortion terms the data do not support fixed at zero (unless kept), and a
+// refusal when sigma0 exceeds the corners' a priori sigma many times over (a wrong board size,
+// corners matched to the wrong points): such an adjustment is not written.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
@@ -16,57 +14,66 @@
 
 #include "core/options.h"
 #include "core/result.h"
+#include "processing/calibration/target_adjustment.h"
+#include "processing/calibration/target_views.h"
 #include "processing/geometry/camera_model.h"
+#include "processing/geometry/stereo_rig.h"
 
 namespace ts {
 
 struct CameraCalibrationOptions {
+  bool fix_principal_point = false;
   bool fix_k3 = false;
   bool fix_tangential = false;  // p1, p2
   bool fix_scale_x = false;     // the affinity (fx differs from fy)
   bool fix_shear = true;        // no sensor has shown one; frees a parameter few views fix
-  double huber_px = 0.0;        // robust loss of a corner's residual; 0: least squares
-  int max_iterations = 200;
+  // A distortion or affinity term below this |estimate| / sigma is fixed at zero and the
+  // adjustment repeated, least significant first (about 95 % two-sided).
+  double significance_t = 2.0;
+  bool keep_all_terms = false;  // no significance test: every free term stays free
   // A priori sigma of a detected corner. An adjustment whose sigma0 exceeds it many times
-  // over does not describe the views (a wrong board size, corners matched to the wrong
-  // points): refused, not written.
+  // over does not describe the views: refused, not written.
   double corner_sigma_px = 0.3;
   double max_sigma0_ratio = 10.0;
+  double warn_rejected_share = 0.03;
+  TargetAdjustmentOptions adjustment;
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
+    v("fix_principal_point", self.fix_principal_point, {"hold the principal point"});
     v("fix_k3", self.fix_k3, {"hold k3 at zero"});
     v("fix_tangential", self.fix_tangential, {"hold p1 and p2 at zero"});
     v("fix_scale_x", self.fix_scale_x, {"hold the affinity at zero (square pixels)"});
     v("fix_shear", self.fix_shear, {"hold the shear at zero"});
-    v("huber_px", self.huber_px, {"Huber loss scale (0: plain least squares)", "px", 0, 100});
-    v("max_iterations", self.max_iterations, {"adjustment iterations, at most", "", 1, 10000});
+    v("significance_t", self.significance_t,
+      {"fix distortion terms whose |estimate|/sigma is below this", "", 0, 100});
+    v("keep_all_terms", self.keep_all_terms, {"keep every free term, significant or not"});
     v("corner_sigma_px", self.corner_sigma_px, {"a priori sigma of a corner", "px", 1e-3, 10});
     v("max_sigma0_ratio", self.max_sigma0_ratio,
       {"sigma0 above this many a priori sigmas: the model does not fit", "", 1, 1000});
+    v("warn_rejected_share", self.warn_rejected_share,
+      {"warn when more observations than this share are rejected", "", 0, 1});
+    v.Group("adjustment", self.adjustment);
   }
   bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
-};
-
-// One planar target seen in several views; pixels[v][i] is target point i in view v.
-struct PlanarViews {
-  std::vector<Eigen::Vector3d> target;  // z = 0
-  std::vector<std::string> names;       // one per view, for the report
-  std::vector<std::vector<Eigen::Vector2d>> pixels;
 };
 
 struct CameraCalibration {
   CameraIntrinsics intrinsics;
   // A posteriori sigma of each parameter (kParameterNames order; 0 for a fixed one).
-  std::array<double, CameraIntrinsics::kNumParameters> sigma{};
-  Eigen::Matrix<double, CameraIntrinsics::kNumParameters, CameraIntrinsics::kNumParameters>
-      correlation = decltype(correlation)::Zero();
-  std::vector<std::string> high_correlations;  // "c / k1: 0.93"
-  double rms_px = 0.0;     // sqrt(mean over corners of the squared 2D reprojection error)
-  double sigma0_px = 0.0;  // of one image coordinate, a posteriori
+  std::array<double, kIntrinsicCount> sigma{};
+  IntrinsicMatrix covariance = IntrinsicMatrix::Zero();
+  IntrinsicMatrix correlation = IntrinsicMatrix::Zero();
+  std::vector<std::string> high_correlations;    // "c / k1: 0.93"
+  std::vector<std::string> fixed_insignificant;  // "k3 (t 0.4)"
+  double rms_px = 0.0;     // sqrt(mean over all measured points of the squared 2D error)
+  double sigma0_px = 0.0;  // of one image coordinate, a posteriori, from the inliers
+  std::vector<std::string> view_names;
   std::vector<double> view_rms_px;
   std::vector<Eigen::Isometry3d> camera_from_target;  // per view
-  int observations = 0;                               // corners
+  int observations = 0;                               // measured points
+  int rejected = 0;
   int iterations = 0;
+  std::vector<std::string> warnings;
   // The pinhole terms as OpenCV states them: fx, fy, cx, cy.
   double fx() const { return intrinsics.principal_distance_px / (1.0 + intrinsics.scale_x); }
   double fy() const { return intrinsics.principal_distance_px; }
@@ -74,8 +81,35 @@ struct CameraCalibration {
   double cy() const { return intrinsics.principal_point_y_px; }
 };
 
-// Needs at least three views (Zhang) of at least six points each.
-Result<CameraCalibration> CalibrateCamera(const PlanarViews& views, int width_px, int height_px,
-                                          const CameraCalibrationOptions& options);
+// Needs at least three views (Zhang) of at least six points each, or a starting camera for a
+// 3D target.
+Result<CameraCalibration> CalibrateCamera(const TargetViews& views,
+                                          const CameraCalibrationOptions& options,
+                                          const CameraIntrinsics* start = nullptr);
+
+// Both cameras and the relative orientation in one adjustment, over the placements of the
+// target (placement ids pair the views; a view seen by one camera only still counts).
+struct StereoCalibration {
+  CameraCalibration left, right;
+  Eigen::Isometry3d right_from_left = Eigen::Isometry3d::Identity();  // OpenCV's R, T
+  double baseline = 0.0;                                              // in the target's unit
+  double baseline_sigma = 0.0;
+  Eigen::Vector3d angles_deg = Eigen::Vector3d::Zero();  // omega phi kappa of left_from_right
+  Eigen::Vector3d angles_sigma_deg = Eigen::Vector3d::Zero();
+  // Of (baseline, omega, phi, kappa), in the target's unit and degrees.
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  double rms_px = 0.0;  // over the measured points of both images
+  double sigma0_px = 0.0;
+  int observations = 0;
+  int rejected = 0;
+  std::vector<std::string> warnings;
+  // The rig, its baseline scaled to metres by metres_per_unit (the target's unit in m).
+  StereoRig Rig(double metres_per_unit) const;
+};
+
+Result<StereoCalibration> CalibrateStereo(const TargetViews& left, const TargetViews& right,
+                                          const CameraCalibrationOptions& options,
+                                          const CameraIntrinsics* left_start = nullptr,
+                                          const CameraIntrinsics* right_start = nullptr);
 
 }  // namespace ts

@@ -3,6 +3,7 @@
 // rig (interior and relative orientation) and the stage kinematics (rig calibration).
 // Read and written as calibration.yaml by processing/io/calibration_yaml.h.
 #include <Eigen/Geometry>
+#include <array>
 #include <string>
 
 #include "processing/geometry/stage_kinematics.h"
@@ -13,9 +14,29 @@ namespace ts {
 enum class Side { kLeft, kRight };
 const char* SideName(Side side);
 
+// What a calibration adjustment says of its own precision (calibrate camera / stereo), kept
+// with the values so that later steps can weigh them; unknown for design values.
+struct CameraPrecision {
+  bool known = false;
+  std::array<double, CameraIntrinsics::kNumParameters> sigma{};  // kParameterNames order
+  Eigen::Matrix<double, CameraIntrinsics::kNumParameters, CameraIntrinsics::kNumParameters>
+      covariance = decltype(covariance)::Zero();
+  double rms_px = 0.0;
+};
+
+struct StereoPrecision {
+  bool known = false;
+  double baseline_sigma_m = 0.0;
+  Eigen::Vector3d relative_sigma_deg = Eigen::Vector3d::Zero();  // right_relative_opk_deg
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // baseline_m, omega phi kappa (deg)
+  double rms_px = 0.0;
+};
+
 struct Calibration {
   StereoRig rig;
   StageKinematics stage;
+  CameraPrecision left_precision, right_precision;
+  StereoPrecision stereo_precision;
 
   bool Check(std::string* why) const;
   // Pose of a camera in L for the stage's encoder readings.

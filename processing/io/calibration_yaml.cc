@@ -17,9 +17,41 @@ Eigen::Vector3d OpkDegFromRotation(const Eigen::Matrix3d& r) {
   return {DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad), DegFromRad(opk.kappa_rad)};
 }
 
-CameraIntrinsics ParseCamera(YamlMap m) {
-  m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
-                         "principal_distance_mm", "principal_point_px", "distortion", "affinity"});
+constexpr int kN = CameraIntrinsics::kNumParameters;
+
+// sigma: {c: .., xp: .., ...}, covariance: [row-major kN x kN], rms_px (schema 2).
+CameraPrecision ParseCameraPrecision(YamlMap& m) {
+  CameraPrecision p;
+  if (!m.Has("sigma")) return p;
+  p.known = true;
+  YamlMap sigma = m.Map("sigma");
+  for (int i = 0; i < kN; ++i) {
+    p.sigma[i] = sigma.Double(CameraIntrinsics::kParameterNames[i]);
+    if (!(p.sigma[i] >= 0.0)) sigma.Fail(CameraIntrinsics::kParameterNames[i], "must be >= 0");
+  }
+  sigma.RejectUnknownKeys();
+  const std::vector<double> c = m.Doubles("covariance", kN * kN);
+  for (int i = 0; i < kN * kN; ++i) p.covariance(i / kN, i % kN) = c[i];
+  if (!p.covariance.isApprox(p.covariance.transpose(), 1e-9) ||
+      (p.covariance.diagonal().array() < 0.0).any())
+    m.Fail("covariance", "is not a symmetric matrix with a non-negative diagonal");
+  p.rms_px = m.Double("rms_px", 0.0);
+  return p;
+}
+
+CameraIntrinsics ParseCamera(YamlMap m, int version, CameraPrecision* precision) {
+  if (version >= 2)
+    m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
+                           "principal_distance_mm", "principal_point_px", "distortion", "affinity",
+                           "sigma", "covariance", "rms_px"});
+  else
+    m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
+                           "principal_distance_mm", "principal_point_px", "distortion",
+                           "affinity"});
+  if (version >= 2) {
+    const CameraPrecision parsed = ParseCameraPrecision(m);
+    if (precision) *precision = parsed;
+  }
   CameraIntrinsics c;
   c.width_px = m.Int("width_px", 1, 100000);
   c.height_px = m.Int("height_px", 1, 100000);
@@ -84,24 +116,49 @@ StageKinematics ParseStage(YamlMap m) {
   return s;
 }
 
+int SchemaVersion(YamlMap& root) {
+  const int version = root.Int("schema_version", 0, 1000000);
+  if (version < 1 || version > kCalibrationSchemaVersion)
+    root.Fail("schema_version", "unsupported version " + std::to_string(version) +
+                                    " (this build reads 1 to " +
+                                    std::to_string(kCalibrationSchemaVersion) + ")");
+  return version;
+}
+
+// sigma: {baseline_m: .., right_relative_opk_deg: [..]}, covariance: [4 x 4], rms_px.
+StereoPrecision ParseStereoPrecision(YamlMap& m) {
+  StereoPrecision p;
+  if (!m.Has("sigma")) return p;
+  p.known = true;
+  YamlMap sigma = m.Map("sigma");
+  p.baseline_sigma_m = sigma.Double("baseline_m");
+  p.relative_sigma_deg = sigma.Vector3("right_relative_opk_deg", Eigen::Vector3d::Zero());
+  if (!(p.baseline_sigma_m >= 0.0) || (p.relative_sigma_deg.array() < 0.0).any())
+    m.Fail("sigma", "must not be negative");
+  sigma.RejectUnknownKeys();
+  const std::vector<double> c = m.Doubles("covariance", 16);
+  for (int i = 0; i < 16; ++i) p.covariance(i / 4, i % 4) = c[i];
+  if (!p.covariance.isApprox(p.covariance.transpose(), 1e-9))
+    m.Fail("covariance", "is not a symmetric matrix");
+  p.rms_px = m.Double("rms_px", 0.0);
+  return p;
+}
+
 }  // namespace
 
 Calibration ParseCalibration(YamlMap root) {
-  const int version = root.Int("schema_version", 0, 1000000);
-  if (version != kCalibrationSchemaVersion)
-    root.Fail("schema_version", "unsupported version " + std::to_string(version) +
-                                    " (this build reads " +
-                                    std::to_string(kCalibrationSchemaVersion) + ")");
+  const int version = SchemaVersion(root);
   Calibration cal;
   YamlMap cameras = root.Map("cameras");
-  cal.rig.left = ParseCamera(cameras.Map("left"));
-  cal.rig.right = ParseCamera(cameras.Map("right"));
+  cal.rig.left = ParseCamera(cameras.Map("left"), version, &cal.left_precision);
+  cal.rig.right = ParseCamera(cameras.Map("right"), version, &cal.right_precision);
   cameras.RejectUnknownKeys();
   YamlMap stereo = root.Map("stereo");
   cal.rig.baseline_m = stereo.PositiveDouble("baseline_m");
   cal.rig.S_from_left = StereoRig::NominalSFromCamera() *
                         RotationFromOpkDeg(stereo.Vector3("left_rotation_opk_deg", {0, 0, 0}));
   cal.rig.left_from_right = RotationFromOpkDeg(stereo.Vector3("right_relative_opk_deg", {0, 0, 0}));
+  if (version >= 2) cal.stereo_precision = ParseStereoPrecision(stereo);
   stereo.RejectUnknownKeys();
   if (root.Has("stage")) cal.stage = ParseStage(root.Map("stage"));
   root.RejectUnknownKeys();
@@ -122,7 +179,34 @@ void EmitVector(YAML::Emitter& out, const char* key, const Eigen::Vector3d& v) {
       << YAML::EndSeq;
 }
 
-void EmitCamera(YAML::Emitter& out, const char* name, const CameraIntrinsics& c) {
+void EmitDoubles(YAML::Emitter& out, const char* key, const double* values, int count) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int i = 0; i < count; ++i) out << values[i];
+  out << YAML::EndSeq;
+}
+
+void EmitCameraPrecision(YAML::Emitter& out, const CameraPrecision& p) {
+  out << YAML::Key << "sigma" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  for (int i = 0; i < kN; ++i)
+    out << YAML::Key << CameraIntrinsics::kParameterNames[i] << YAML::Value << p.sigma[i];
+  out << YAML::EndMap;
+  const Eigen::Matrix<double, kN, kN, Eigen::RowMajor> c = p.covariance;
+  EmitDoubles(out, "covariance", c.data(), kN * kN);
+  out << YAML::Key << "rms_px" << YAML::Value << p.rms_px;
+}
+
+void EmitStereoPrecision(YAML::Emitter& out, const StereoPrecision& p) {
+  out << YAML::Key << "sigma" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "baseline_m" << YAML::Value << p.baseline_sigma_m;
+  EmitVector(out, "right_relative_opk_deg", p.relative_sigma_deg);
+  out << YAML::EndMap;
+  const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> c = p.covariance;
+  EmitDoubles(out, "covariance", c.data(), 16);
+  out << YAML::Key << "rms_px" << YAML::Value << p.rms_px;
+}
+
+void EmitCamera(YAML::Emitter& out, const char* name, const CameraIntrinsics& c,
+                const CameraPrecision& precision) {
   out << YAML::Key << name << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "width_px" << YAML::Value << c.width_px;
   out << YAML::Key << "height_px" << YAML::Value << c.height_px;
@@ -137,6 +221,7 @@ void EmitCamera(YAML::Emitter& out, const char* name, const CameraIntrinsics& c)
   out << YAML::Key << "affinity" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "scale_x" << YAML::Value << c.scale_x;
   out << YAML::Key << "shear" << YAML::Value << c.shear << YAML::EndMap;
+  if (precision.known) EmitCameraPrecision(out, precision);
   out << YAML::EndMap;
 }
 }  // namespace
@@ -147,14 +232,15 @@ std::string CalibrationToYaml(const Calibration& cal) {
   out << YAML::BeginMap;
   out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
   out << YAML::Key << "cameras" << YAML::Value << YAML::BeginMap;
-  EmitCamera(out, "left", cal.rig.left);
-  EmitCamera(out, "right", cal.rig.right);
+  EmitCamera(out, "left", cal.rig.left, cal.left_precision);
+  EmitCamera(out, "right", cal.rig.right, cal.right_precision);
   out << YAML::EndMap;
   out << YAML::Key << "stereo" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "baseline_m" << YAML::Value << cal.rig.baseline_m;
   EmitVector(out, "left_rotation_opk_deg",
              OpkDegFromRotation(StereoRig::NominalSFromCamera().transpose() * cal.rig.S_from_left));
   EmitVector(out, "right_relative_opk_deg", OpkDegFromRotation(cal.rig.left_from_right));
+  if (cal.stereo_precision.known) EmitStereoPrecision(out, cal.stereo_precision);
   out << YAML::EndMap;
   const StageKinematics& s = cal.stage;
   out << YAML::Key << "stage" << YAML::Value << YAML::BeginMap;
@@ -175,27 +261,23 @@ Status SaveCalibrationYaml(const Calibration& calibration, const std::string& fi
   return WriteFileAtomically(file, CalibrationToYaml(calibration));
 }
 
-std::string CameraCalibrationToYaml(
-    const CameraIntrinsics& camera,
-    const std::array<double, CameraIntrinsics::kNumParameters>& sigma, double rms_px) {
+std::string CameraCalibrationToYaml(const CameraIntrinsics& camera,
+                                    const CameraPrecision& precision) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
   out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
-  EmitCamera(out, "camera", camera);
-  out << YAML::Key << "sigma" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  for (int i = 0; i < CameraIntrinsics::kNumParameters; ++i)
-    out << YAML::Key << CameraIntrinsics::kParameterNames[i] << YAML::Value << sigma[i];
-  out << YAML::EndMap;
-  out << YAML::Key << "rms_px" << YAML::Value << rms_px;
+  EmitCamera(out, "camera", camera, precision);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 
-Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file) {
+Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file,
+                                                   CameraPrecision* precision) {
   try {
     YamlMap root(LoadYamlFile(file), "");
-    return ParseCamera(root.Map("camera"));
+    const int version = SchemaVersion(root);
+    return ParseCamera(root.Map("camera"), version, precision);
   } catch (const ConfigError& e) {
     return Error{file + ": " + e.what()};
   }

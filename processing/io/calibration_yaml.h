@@ -1,8 +1,9 @@
 #pragma once
 // calibration.yaml: the stereo rig and stage kinematics, the file `process --calibration`
-// reads, the simulator writes as truth, and `calibrate` will write. Schema (version 1):
+// reads, the simulator writes as truth, and `calibrate` writes. Schema (version 2; version 1
+// is the same without the precision blocks, and still read):
 //
-//   schema_version: 1
+//   schema_version: 2
 //   cameras:
 //     left:                           # and right:, same fields
 //       width_px: 1392
@@ -12,10 +13,16 @@
 //       principal_point_px: [695.5, 519.5]   # optional, default the image centre
 //       distortion: {k1: 0, k2: 0, k3: 0, p1: 0, p2: 0}   # optional, dimensionless
 //       affinity: {scale_x: 0, shear: 0}                   # optional
+//       sigma: {c: 0.4, xp: 0.3, ...}    # optional, from a calibration: each parameter's
+//       covariance: [100 numbers]         #   sigma and the 10 x 10 covariance (row-major,
+//       rms_px: 0.21                      #   kParameterNames order), the RMS
 //   stereo:
 //     baseline_m: 0.5
 //     left_rotation_opk_deg: [0, 0, 0]   # R_l relative to a camera looking along +Y_S
 //     right_relative_opk_deg: [0, 0, 0]  # R = left_from_right (seed 003 eq. 2)
+//     sigma: {baseline_m: 1e-4, right_relative_opk_deg: [0.002, 0.003, 0.001]}  # optional
+//     covariance: [16 numbers]           # of baseline_m, omega phi kappa (deg)
+//     rms_px: 0.25                       # over both images
 //   stage:                               # optional; every field defaults to the ideal stage
 //     height_above_mark_m: 1.5
 //     levelling_deg: [0, 0]
@@ -34,7 +41,7 @@
 
 namespace ts {
 
-inline constexpr int kCalibrationSchemaVersion = 1;
+inline constexpr int kCalibrationSchemaVersion = 2;
 
 // Errors: "FILE: field.path: problem".
 Result<Calibration> LoadCalibrationYaml(const std::string& file);
@@ -46,15 +53,13 @@ std::string CalibrationToYaml(const Calibration& calibration);
 // Written atomically (see atomic_file.h).
 Status SaveCalibrationYaml(const Calibration& calibration, const std::string& file);
 
-// One camera's calibration (`calibrate camera`): the fields of cameras.left above under
-// `camera:`, each parameter's a posteriori sigma under `sigma:` (kParameterNames) and the RMS.
-//   schema_version: 1
-//   camera: {width_px: 640, ...}
-//   sigma: {c: 0.9, xp: 0.6, ...}
-//   rms_px: 0.26
-std::string CameraCalibrationToYaml(
-    const CameraIntrinsics& camera,
-    const std::array<double, CameraIntrinsics::kNumParameters>& sigma, double rms_px);
-Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file);
+// One camera's calibration (`calibrate camera`): the fields of cameras.left above, with its
+// precision, under `camera:`.
+//   schema_version: 2
+//   camera: {width_px: 640, ..., sigma: {...}, covariance: [...], rms_px: 0.26}
+std::string CameraCalibrationToYaml(const CameraIntrinsics& camera,
+                                    const CameraPrecision& precision);
+Result<CameraIntrinsics> LoadCameraCalibrationYaml(const std::string& file,
+                                                   CameraPrecision* precision = nullptr);
 
 }  // namespace ts

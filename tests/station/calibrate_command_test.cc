@@ -38,6 +38,46 @@ TEST(CalibrateCommand, RightCameraFromTheRealBoardsWritesItsFile) {
   EXPECT_DOUBLE_EQ(camera->principal_point_x_px, j["cx"].get<double>());
 }
 
+// The stereo pair: both cameras and the relative orientation, written as the calibration file
+// process reads (schema 2, with the sigmas), the baseline in the unit of --square.
+TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
+  testing::TempDir dir;
+  const std::string out = dir / "cal.yaml";
+  const auto r =
+      RunCommand(kExe + " calibrate stereo --left '" + kBoards + "/left*.jpg' --right '" + kBoards +
+                 "/right*.jpg' --square 0.025 --out " + out + " --json 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* side : {"left", "right"})
+    for (const char* key : {"rms_px", "fx", "fy", "cx", "cy"})
+      EXPECT_TRUE(j[side][key].is_number()) << side << "." << key;
+  EXPECT_EQ(j["left"]["views_used"], 13);
+  EXPECT_EQ(j["right"]["views_used"], 12);
+  EXPECT_LT(j["stereo"]["rms_px"].get<double>(), 0.3);
+  const double baseline = j["stereo"]["baseline"].get<double>();
+  EXPECT_NEAR(baseline / 0.025, 3.32, 0.05) << "about 3.3 squares";
+  const Result<Calibration> cal = LoadCalibrationYaml(out);
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_DOUBLE_EQ(cal->rig.baseline_m, baseline);
+  EXPECT_DOUBLE_EQ(cal->rig.left.principal_distance_px, j["left"]["fy"].get<double>());
+  ASSERT_TRUE(cal->stereo_precision.known);
+  EXPECT_DOUBLE_EQ(cal->stereo_precision.baseline_sigma_m,
+                   j["stereo"]["baseline_sigma"].get<double>());
+  EXPECT_TRUE(cal->left_precision.known);
+  EXPECT_DOUBLE_EQ(cal->left_precision.sigma[0], j["left"]["sigma"]["c"].get<double>());
+}
+
+TEST(CalibrateCommand, StereoViewsThatCannotBePairedAreOneClearError) {
+  testing::TempDir dir;
+  const std::string out = dir / "cal.yaml";
+  const auto r =
+      RunCommand(kExe + " calibrate stereo --left '" + kBoards + "/left0*.jpg' --right '" +
+                 kBoards + "/right*.jpg' --out " + out + " 2>&1");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("--right: 13 images, --left has 9"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(CalibrateCommand, BadInputIsOneClearErrorAndNoFile) {
   testing::TempDir dir;
   const std::string out = dir / "cal.yaml";

@@ -70,6 +70,59 @@ TEST(CalibrationYaml, RoundTripsEveryParameter) {
   EXPECT_DOUBLE_EQ(back->stage.height_above_mark_m, 1.45);
 }
 
+// Schema 2: each camera's sigmas and covariance, the stereo sigmas and covariance, the RMS.
+TEST(CalibrationYaml, RoundTripsThePrecisionOfACalibration) {
+  testing::TempDir dir;
+  Calibration cal = Example();
+  cal.left_precision.known = true;
+  for (int i = 0; i < CameraIntrinsics::kNumParameters; ++i) {
+    cal.left_precision.sigma[i] = 0.01 * (i + 1);
+    for (int j = 0; j < CameraIntrinsics::kNumParameters; ++j)
+      cal.left_precision.covariance(i, j) = 1e-4 * (i == j ? 2.0 : 0.5) / (1 + i + j);
+  }
+  cal.left_precision.rms_px = 0.21;
+  cal.stereo_precision = {
+      true, 1.5e-4, {0.002, 0.003, 0.001}, Eigen::Matrix4d::Identity() * 1e-6, 0.25};
+  ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "cal.yaml").ok());
+  const Result<Calibration> back = LoadCalibrationYaml(dir / "cal.yaml");
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_TRUE(back->left_precision.known);
+  EXPECT_FALSE(back->right_precision.known) << "design values have no precision";
+  EXPECT_EQ(back->left_precision.sigma, cal.left_precision.sigma);
+  EXPECT_EQ(back->left_precision.covariance, cal.left_precision.covariance);
+  EXPECT_DOUBLE_EQ(back->left_precision.rms_px, 0.21);
+  EXPECT_DOUBLE_EQ(back->stereo_precision.baseline_sigma_m, 1.5e-4);
+  EXPECT_EQ(back->stereo_precision.relative_sigma_deg, cal.stereo_precision.relative_sigma_deg);
+  EXPECT_EQ(back->stereo_precision.covariance, cal.stereo_precision.covariance);
+  ExpectSameCamera(back->rig.left, cal.rig.left);
+}
+
+TEST(CalibrationYaml, PrecisionIsCheckedAndBelongsToSchemaTwo) {
+  testing::TempDir dir;
+  const std::string cameras =
+      "cameras:\n  right: {width_px: 10, height_px: 10, principal_distance_px: 10}\n"
+      "  left: {width_px: 10, height_px: 10, principal_distance_px: 10, ";
+  const std::string sigma =
+      "sigma: {c: 1, xp: 1, yp: 1, k1: 0, k2: 0, k3: 0, p1: 0, p2: 0, scale_x: 0, shear: 0}";
+  const struct {
+    std::string text, expect;
+  } cases[] = {
+      {"schema_version: 1\n" + cameras + sigma + "}\nstereo: {baseline_m: 0.5}\n",
+       "cameras.left.sigma: unknown key"},
+      {"schema_version: 2\n" + cameras + sigma +
+           ", covariance: [1, 2]}\nstereo: {baseline_m: 0.5}\n",
+       "cameras.left.covariance: must be a list of 100"},
+      {"schema_version: 2\n" + cameras + "sigma: {c: -1}}\nstereo: {baseline_m: 0.5}\n",
+       "cameras.left.sigma.c: must be >= 0"},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(dir / "cal.yaml") << c.text;
+    const Result<Calibration> cal = LoadCalibrationYaml(dir / "cal.yaml");
+    ASSERT_FALSE(cal.ok()) << c.text;
+    EXPECT_NE(cal.error().find(c.expect), std::string::npos) << cal.error();
+  }
+}
+
 TEST(CalibrationYaml, FocalLengthInMillimetresAndDefaultPrincipalPoint) {
   testing::TempDir dir;
   std::ofstream(dir / "cal.yaml") << R"(schema_version: 1

@@ -1,0 +1,411 @@
+#include "processing/calibration/target_adjustment.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <opencv2/calib3d.hpp>
+
+namespace ts {
+namespace {
+
+constexpr int kN = kIntrinsicCount;
+
+// A point in a camera frame to its residual in measured pixels: the ideal reduced image
+// coordinates i = c (X/Z, Y/Z), then the measured reduced r with r + d(r) = i (camera_model.h)
+// by fixed-point iteration r <- i - d(r). It contracts by the derivative of d, about 0.5 at the
+// corners of a strongly distorting lens: 40 steps leave far less than a micro-pixel.
+template <typename T>
+bool MeasuredResidual(const T* intrinsics, const T* p, const Eigen::Vector2d& pixel, T* residual) {
+  if (!(p[2] > T(0))) return false;
+  const T ix = intrinsics[0] * p[0] / p[2], iy = intrinsics[0] * p[1] / p[2];
+  T rx = ix, ry = iy;
+  for (int k = 0; k < 40; ++k) {
+    T dx, dy;
+    DistortionCorrection(intrinsics, rx, ry, &dx, &dy);
+    rx = ix - dx;
+    ry = iy - dy;
+  }
+  residual[0] = intrinsics[1] + rx - T(pixel.x());
+  residual[1] = intrinsics[2] + ry - T(pixel.y());
+  // Far outside the lens's range the iteration diverges: a step there is refused.
+  return ceres::isfinite(residual[0]) && ceres::isfinite(residual[1]);
+}
+
+template <typename T>
+void Transform(const T* pose, const T* in, T* out) {
+  ceres::AngleAxisRotatePoint(pose, in, out);
+  out[0] += pose[3], out[1] += pose[4], out[2] += pose[5];
+}
+
+// The first camera sees the target point through the placement's pose.
+struct FirstCameraResidual {
+  Eigen::Vector3d target;
+  Eigen::Vector2d pixel;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, T* residual) const {
+    const T point[3] = {T(target.x()), T(target.y()), T(target.z())};
+    T p[3];
+    Transform(pose, point, p);
+    return MeasuredResidual(intrinsics, p, pixel, residual);
+  }
+};
+
+// The second camera through the placement's pose and the relative orientation.
+struct SecondCameraResidual {
+  Eigen::Vector3d target;
+  Eigen::Vector2d pixel;
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* relative, const T* pose, T* residual) const {
+    const T point[3] = {T(target.x()), T(target.y()), T(target.z())};
+    T first[3], p[3];
+    Transform(pose, point, first);
+    Transform(relative, first, p);
+    return MeasuredResidual(intrinsics, p, pixel, residual);
+  }
+};
+
+Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
+  Eigen::Matrix3d rotation;  // column-major, as Ceres writes it
+  ceres::AngleAxisToRotationMatrix(pose.data(), rotation.data());
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = rotation;
+  t.translation() = Eigen::Vector3d(pose[3], pose[4], pose[5]);
+  return t;
+}
+
+Pose6 PoseFromIsometry(const Eigen::Isometry3d& t) {
+  Pose6 pose;
+  const Eigen::Matrix3d rotation = t.linear();
+  ceres::RotationMatrixToAngleAxis(rotation.data(), pose.data());
+  for (int j = 0; j < 3; ++j) pose[3 + j] = t.translation()[j];
+  return pose;
+}
+
+cv::Mat CameraMatrix(const IntrinsicVector& p) {
+  return (cv::Mat_<double>(3, 3) << p[0], 0, p[1], 0, p[0], p[2], 0, 0, 1);
+}
+
+// Zhang's closed form over one camera's views of a planar target.
+Status ZhangStart(const TargetViews& views, IntrinsicVector* intrinsics) {
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+  for (const TargetView& v : views.views) {
+    if (v.pixels.size() < 4) continue;
+    object.emplace_back();
+    image.emplace_back();
+    for (size_t i = 0; i < v.ids.size(); ++i) {
+      const Eigen::Vector3d& t = views.target[v.ids[i]];
+      object.back().emplace_back(t.x(), t.y(), t.z());
+      image.back().emplace_back(v.pixels[i].x(), v.pixels[i].y());
+    }
+  }
+  if (object.size() < 3) return Error{"at least 3 views of the target are needed"};
+  const cv::Mat k = cv::initCameraMatrix2D(object, image, {views.width_px, views.height_px}, 1.0);
+  const double f = k.at<double>(1, 1);
+  if (!(f > 0.0) || !std::isfinite(f))
+    return Error{"the views do not determine a focal length (are they all parallel?)"};
+  intrinsics->fill(0.0);
+  (*intrinsics)[0] = f;
+  (*intrinsics)[1] = k.at<double>(0, 2);
+  (*intrinsics)[2] = k.at<double>(1, 2);
+  return {};
+}
+
+// Each view's pose by resection with the starting camera (distortion undone first).
+Status ResectViews(const TargetViews& views, const IntrinsicVector& intrinsics,
+                   std::map<int, Eigen::Isometry3d>* poses) {
+  const CameraModel model(
+      CameraIntrinsics::FromParameters(intrinsics, views.width_px, views.height_px, 0.0));
+  for (const TargetView& v : views.views) {
+    if (v.pixels.size() < 6) return Error{"view " + v.name + ": fewer than 6 target points"};
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (size_t i = 0; i < v.ids.size(); ++i) {
+      const Eigen::Vector3d& t = views.target[v.ids[i]];
+      const Eigen::Vector2d ideal = model.Undistort(v.pixels[i]);
+      object.emplace_back(t.x(), t.y(), t.z());
+      image.emplace_back(ideal.x(), ideal.y());
+    }
+    cv::Mat rvec, tvec;
+    if (!cv::solvePnP(object, image, CameraMatrix(intrinsics), cv::noArray(), rvec, tvec))
+      return Error{"view " + v.name + ": no resection"};
+    Pose6 pose;
+    for (int j = 0; j < 3; ++j) pose[j] = rvec.at<double>(j), pose[3 + j] = tvec.at<double>(j);
+    (*poses)[v.placement] = IsometryFromPose(pose);
+  }
+  return {};
+}
+
+// The relative orientation as the median (by baseline length) of the placements both saw.
+Status StartRelativeOrientation(const std::map<int, Eigen::Isometry3d>& first,
+                                const std::map<int, Eigen::Isometry3d>& second,
+                                Eigen::Isometry3d* second_from_first) {
+  std::vector<std::pair<double, Eigen::Isometry3d>> candidates;
+  for (const auto& [placement, pose] : second)
+    if (auto it = first.find(placement); it != first.end()) {
+      const Eigen::Isometry3d relative = pose * it->second.inverse();
+      candidates.emplace_back(relative.translation().norm(), relative);
+    }
+  if (candidates.empty())
+    return Error{"no placement of the target is seen by both cameras: pair the views"};
+  std::nth_element(candidates.begin(), candidates.begin() + candidates.size() / 2, candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  *second_from_first = candidates[candidates.size() / 2].second;
+  return {};
+}
+
+void EnsureRejectionFlags(TargetAdjustment* a) {
+  a->rejected.resize(a->cameras.size());
+  for (size_t c = 0; c < a->cameras.size(); ++c) {
+    a->rejected[c].resize(a->cameras[c].views.size());
+    for (size_t v = 0; v < a->cameras[c].views.size(); ++v)
+      a->rejected[c][v].resize(a->cameras[c].views[v].pixels.size(), 0);
+  }
+}
+
+void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::Problem* problem) {
+  for (size_t c = 0; c < a->cameras.size(); ++c) {
+    const TargetViews& camera = a->cameras[c];
+    for (size_t v = 0; v < camera.views.size(); ++v) {
+      const TargetView& view = camera.views[v];
+      double* pose = a->first_from_target.at(view.placement).data();
+      for (size_t i = 0; i < view.pixels.size(); ++i) {
+        if (a->rejected[c][v][i]) continue;
+        ceres::LossFunction* loss = o.huber_px > 0.0 ? new ceres::HuberLoss(o.huber_px) : nullptr;
+        const Eigen::Vector3d& target = camera.target[view.ids[i]];
+        if (c == 0)
+          problem->AddResidualBlock(new ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6>(
+                                        new FirstCameraResidual{target, view.pixels[i]}),
+                                    loss, a->intrinsics[c].data(), pose);
+        else
+          problem->AddResidualBlock(
+              new ceres::AutoDiffCostFunction<SecondCameraResidual, 2, kN, 6, 6>(
+                  new SecondCameraResidual{target, view.pixels[i]}),
+              loss, a->intrinsics[c].data(), a->second_from_first.data(), pose);
+      }
+    }
+  }
+  for (size_t c = 0; c < a->cameras.size(); ++c) {
+    std::vector<int> fixed;
+    for (int j = 0; j < kN; ++j)
+      if (a->fixed[c][j]) fixed.push_back(j);
+    if (!fixed.empty())
+      problem->SetManifold(a->intrinsics[c].data(), new ceres::SubsetManifold(kN, fixed));
+  }
+}
+
+Status Solve(ceres::Problem* problem, const TargetAdjustmentOptions& o, int* iterations) {
+  // Ceres reports through glog; what matters reaches the caller as a Result.
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  ceres::Solver::Options solver;
+  solver.logging_type = ceres::SILENT;
+  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.max_num_iterations = o.max_iterations;
+  solver.function_tolerance = 1e-12;
+  solver.parameter_tolerance = 1e-12;
+  solver.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, problem, &summary);
+  *iterations += static_cast<int>(summary.iterations.size());
+  if (!summary.IsSolutionUsable()) return Error{"the adjustment failed: " + summary.message};
+  return {};
+}
+
+// k for n residual coordinates: a standard normal exceeds k in any of them with probability
+// alpha (two-sided, Bonferroni), so that a clean set of any size keeps all its points.
+double FamilyWiseCriticalValue(int n, double alpha) {
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (n * std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+// sigma0 from the inliers. Then, when it may, every observation is judged again against k
+// sigma0 (one rejected earlier comes back when it fits); returns how many judgements changed.
+int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool may_reject,
+                  AdjustmentPrecision* precision) {
+  const auto residuals = TargetResiduals(*a);
+  double sum = 0.0;
+  int inliers = 0, all = 0;
+  for (size_t c = 0; c < residuals.size(); ++c)
+    for (size_t v = 0; v < residuals[c].size(); ++v)
+      for (size_t i = 0; i < residuals[c][v].size(); ++i, ++all)
+        if (!a->rejected[c][v][i]) sum += residuals[c][v][i].squaredNorm(), ++inliers;
+  precision->observations = all;
+  precision->redundancy = 2 * inliers - a->FreeParameters();
+  precision->sigma0_px = std::sqrt(sum / std::max(1, precision->redundancy));
+  precision->rejected = all - inliers;
+  precision->rejection_k =
+      o.rejection_k > 0.0 ? o.rejection_k : FamilyWiseCriticalValue(2 * all, o.rejection_alpha);
+  if (!may_reject || precision->redundancy <= 0) return 0;
+  const double limit = precision->rejection_k * precision->sigma0_px;
+  int changed = 0;
+  for (size_t c = 0; c < residuals.size(); ++c)
+    for (size_t v = 0; v < residuals[c].size(); ++v)
+      for (size_t i = 0; i < residuals[c][v].size(); ++i) {
+        const char outlier = residuals[c][v][i].cwiseAbs().maxCoeff() > limit;
+        changed += a->rejected[c][v][i] != outlier;
+        a->rejected[c][v][i] = outlier;
+      }
+  return changed;
+}
+
+// False when the normal matrix is singular: some free parameter is not determined.
+bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
+                        AdjustmentPrecision* precision) {
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (auto& intrinsics : a->intrinsics) blocks.emplace_back(intrinsics.data(), intrinsics.data());
+  const bool two = a->cameras.size() == 2;
+  if (two) blocks.emplace_back(a->second_from_first.data(), a->second_from_first.data());
+  if (!covariance.Compute(blocks, problem)) return false;
+  const double scale = precision->sigma0_px * precision->sigma0_px;
+  precision->intrinsics_covariance.clear();
+  for (auto& intrinsics : a->intrinsics) {
+    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> c;
+    if (!covariance.GetCovarianceBlock(intrinsics.data(), intrinsics.data(), c.data()))
+      return false;
+    precision->intrinsics_covariance.push_back(scale * c);
+  }
+  if (two) {
+    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
+    if (!covariance.GetCovarianceBlock(a->second_from_first.data(), a->second_from_first.data(),
+                                       c.data()))
+      return false;
+    precision->relative_covariance = scale * c;
+  }
+  return true;
+}
+
+}  // namespace
+
+Eigen::Isometry3d TargetAdjustment::CameraFromTarget(int camera, int placement) const {
+  const Eigen::Isometry3d first = IsometryFromPose(first_from_target.at(placement));
+  return camera == 0 ? first : IsometryFromPose(second_from_first) * first;
+}
+
+Eigen::Isometry3d TargetAdjustment::SecondFromFirst() const {
+  return IsometryFromPose(second_from_first);
+}
+
+CameraIntrinsics TargetAdjustment::Intrinsics(int camera) const {
+  return CameraIntrinsics::FromParameters(intrinsics[camera], cameras[camera].width_px,
+                                          cameras[camera].height_px, 0.0);
+}
+
+int TargetAdjustment::FreeParameters() const {
+  int n = 6 * static_cast<int>(first_from_target.size()) + (cameras.size() == 2 ? 6 : 0);
+  for (const auto& f : fixed) n += static_cast<int>(std::count(f.begin(), f.end(), false));
+  return n;
+}
+
+Status InitialiseTargetAdjustment(TargetAdjustment* a,
+                                  const std::vector<const CameraIntrinsics*>& given) {
+  if (a->cameras.empty() || a->cameras.size() > 2) return Error{"one or two cameras are needed"};
+  a->intrinsics.resize(a->cameras.size());
+  a->fixed.resize(a->cameras.size());
+  std::vector<std::map<int, Eigen::Isometry3d>> poses(a->cameras.size());
+  for (size_t c = 0; c < a->cameras.size(); ++c) {
+    const TargetViews& views = a->cameras[c];
+    if (Status s = views.Check(); !s) return s;
+    if (c < given.size() && given[c]) {
+      a->intrinsics[c] = given[c]->ToParameters();
+    } else if (!views.Planar()) {
+      return Error{"a 3D target needs a starting camera (the design values)"};
+    } else if (Status s = ZhangStart(views, &a->intrinsics[c]); !s) {
+      return s;
+    }
+    if (Status s = ResectViews(views, a->intrinsics[c], &poses[c]); !s) return s;
+  }
+  a->first_from_target.clear();
+  for (const auto& [placement, pose] : poses[0])
+    a->first_from_target[placement] = PoseFromIsometry(pose);
+  if (a->cameras.size() == 2) {
+    Eigen::Isometry3d relative;
+    if (Status s = StartRelativeOrientation(poses[0], poses[1], &relative); !s) return s;
+    a->second_from_first = PoseFromIsometry(relative);
+    for (const auto& [placement, pose] : poses[1])
+      if (!a->first_from_target.count(placement))
+        a->first_from_target[placement] = PoseFromIsometry(relative.inverse() * pose);
+  }
+  a->rejected.clear();
+  EnsureRejectionFlags(a);
+  return {};
+}
+
+Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* a,
+                                                  const TargetAdjustmentOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) return Error{why};
+  EnsureRejectionFlags(a);
+  AdjustmentPrecision precision;
+  for (int round = 0;; ++round) {
+    ceres::Problem problem;
+    AddResiduals(a, o, &problem);
+    if (Status s = Solve(&problem, o, &precision.iterations); !s) return Error{s.error()};
+    if (JudgeOutliers(a, o, round < o.max_rejection_rounds, &precision) == 0) {
+      precision.determined = EstimateCovariance(a, &problem, &precision);
+      return precision;
+    }
+  }
+}
+
+std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(const TargetAdjustment& a) {
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> residuals(a.cameras.size());
+  for (size_t c = 0; c < a.cameras.size(); ++c) {
+    const CameraModel model(a.Intrinsics(static_cast<int>(c)));
+    for (const TargetView& view : a.cameras[c].views) {
+      const Eigen::Isometry3d pose = a.CameraFromTarget(static_cast<int>(c), view.placement);
+      std::vector<Eigen::Vector2d>& out = residuals[c].emplace_back();
+      for (size_t i = 0; i < view.pixels.size(); ++i) {
+        Eigen::Vector2d projected;
+        const bool ok = model.Project(pose * a.cameras[c].target[view.ids[i]], &projected);
+        // A point the model cannot project counts as a gross error, not as a perfect fit.
+        out.push_back(ok ? Eigen::Vector2d(view.pixels[i] - projected) : Eigen::Vector2d(1e3, 1e3));
+      }
+    }
+  }
+  return residuals;
+}
+
+Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
+    TargetAdjustment* a, const TargetAdjustmentOptions& o, double t_critical,
+    AdjustmentPrecision* precision) {
+  std::vector<std::vector<std::string>> fixed(a->cameras.size());
+  while (precision->determined) {
+    int worst_camera = -1, worst_term = -1;
+    double worst_t = t_critical;
+    for (size_t c = 0; c < a->cameras.size(); ++c)
+      for (int j = 3; j < kN; ++j) {  // the distortion and affinity terms
+        if (a->fixed[c][j]) continue;
+        const double sigma = std::sqrt(precision->intrinsics_covariance[c](j, j));
+        const double t = sigma > 0.0 ? std::abs(a->intrinsics[c][j]) / sigma : 0.0;
+        if (t < worst_t) worst_t = t, worst_camera = static_cast<int>(c), worst_term = j;
+      }
+    if (worst_term < 0) return fixed;
+    a->fixed[worst_camera][worst_term] = true;
+    a->intrinsics[worst_camera][worst_term] = 0.0;
+    char text[64];
+    std::snprintf(text, sizeof(text), "%s (t %.1f)", CameraIntrinsics::kParameterNames[worst_term],
+                  worst_t);
+    fixed[worst_camera].emplace_back(text);
+    // Rejections were made against the fuller model; they are judged again.
+    for (auto& camera : a->rejected)
+      for (auto& view : camera) std::fill(view.begin(), view.end(), 0);
+    Result<AdjustmentPrecision> again = SolveTargetAdjustment(a, o);
+    if (!again) return Error{again.error()};
+    *precision = *again;
+  }
+  return fixed;
+}
+
+}  // namespace ts

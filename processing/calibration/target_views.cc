@@ -1,0 +1,46 @@
+#include "processing/calibration/target_views.h"
+
+#include <set>
+
+namespace ts {
+
+void TargetViews::AddFullView(const std::string& name, int placement,
+                              const std::vector<Eigen::Vector2d>& pixels) {
+  TargetView view{name, placement, {}, pixels};
+  for (size_t i = 0; i < pixels.size(); ++i) view.ids.push_back(static_cast<int>(i));
+  views.push_back(std::move(view));
+}
+
+int TargetViews::Observations() const {
+  int n = 0;
+  for (const TargetView& v : views) n += static_cast<int>(v.pixels.size());
+  return n;
+}
+
+bool TargetViews::Planar() const {
+  for (const Eigen::Vector3d& p : target)
+    if (p.z() != 0.0) return false;
+  return true;
+}
+
+Status TargetViews::Check() const {
+  if (width_px <= 0 || height_px <= 0) return Error{"the image size is not known"};
+  for (const Eigen::Vector3d& p : target)
+    if (!p.allFinite()) return Error{"a target point is not finite"};
+  for (const TargetView& v : views) {
+    if (v.ids.size() != v.pixels.size())
+      return Error{"view " + v.name + ": one target id per pixel is needed"};
+    std::set<int> seen;
+    for (size_t i = 0; i < v.ids.size(); ++i) {
+      if (v.ids[i] < 0 || v.ids[i] >= static_cast<int>(target.size()))
+        return Error{"view " + v.name + ": target id " + std::to_string(v.ids[i]) +
+                     " is not in the target"};
+      if (!seen.insert(v.ids[i]).second)
+        return Error{"view " + v.name + ": target id " + std::to_string(v.ids[i]) + " twice"};
+      if (!v.pixels[i].allFinite()) return Error{"view " + v.name + ": a pixel is not finite"};
+    }
+  }
+  return {};
+}
+
+}  // namespace ts

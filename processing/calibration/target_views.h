@@ -1,0 +1,38 @@
+#pragma once
+// What a calibration adjusts: a target of known points (a chessboard's corners in its plane, a
+// control field's surveyed targets) and one camera's views of it. A view may show only a part
+// of the target (a ChArUco board at the frame's edge, the field's targets in one direction):
+// each pixel carries the id of its target point. Views of one camera that share a placement
+// with views of another (the two images of a stereo pair) saw the target in the same pose.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace ts {
+
+struct TargetView {
+  std::string name;   // the image's file name, for the report
+  int placement = 0;  // one pose of the target; shared by the images of a stereo pair
+  std::vector<int> ids;
+  std::vector<Eigen::Vector2d> pixels;
+};
+
+struct TargetViews {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<Eigen::Vector3d> target;
+  std::vector<TargetView> views;
+
+  // A view of the whole target, in the order of `target`.
+  void AddFullView(const std::string& name, int placement,
+                   const std::vector<Eigen::Vector2d>& pixels);
+  int Observations() const;
+  // Every target point at z = 0 (a board), which Zhang's closed form needs.
+  bool Planar() const;
+  // Ids within the target, finite pixels, a size, a name per view.
+  Status Check() const;
+};
+
+}  // namespace ts
