@@ -14,6 +14,7 @@
 #include "processing/calibration/chessboard.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
+#include "processing/io/opencv_calibration_file.h"
 #include "station/commands.h"
 #include "station/option_flags.h"
 
@@ -211,6 +212,81 @@ void RunCalibrateStereo(CalibrateArgs args) {
       args.out.c_str());
 }
 
+struct OpenCvArgs {
+  std::string calibration, camera, opencv, out;
+};
+
+void PrintConversion(const char* name, const ModelConversion& c) {
+  std::printf("%s: the two lens models project the frame alike within %.4f px\n", name,
+              c.max_difference_px);
+  if (c.max_difference_px > c.tolerance_px)
+    std::printf(
+        "warning: %s: more than %.2f px apart at the frame's edge (decentring under "
+        "strong distortion has no exact counterpart)\n",
+        name, c.tolerance_px);
+}
+
+void RunExportOpenCv(const OpenCvArgs& args) {
+  if (args.calibration.empty() == args.camera.empty())
+    throw CommandError("export-opencv: give one of --calibration and --camera");
+  if (!args.camera.empty()) {
+    const Result<CameraIntrinsics> camera = LoadCameraCalibrationYaml(args.camera);
+    if (!camera) throw CommandError(camera.error());
+    ModelConversion conversion;
+    if (Status s = SaveOpenCvCamera(*camera, args.out, &conversion); !s)
+      throw CommandError(s.error());
+    PrintConversion("camera", conversion);
+  } else {
+    const Result<Calibration> cal = LoadCalibrationYaml(args.calibration);
+    if (!cal) throw CommandError(cal.error());
+    OpenCvExport conversion;
+    if (Status s = SaveOpenCvStereo(*cal, args.out, &conversion); !s) throw CommandError(s.error());
+    PrintConversion("left", conversion.left);
+    PrintConversion("right", conversion.right);
+  }
+  std::printf("written %s\n", args.out.c_str());
+}
+
+void RunImportOpenCv(const OpenCvArgs& args) {
+  if (!args.camera.empty()) {
+    ModelConversion conversion;
+    const Result<CameraIntrinsics> camera = LoadOpenCvCamera(args.opencv, &conversion);
+    if (!camera) throw CommandError(camera.error());
+    if (Status s = WriteFileAtomically(args.camera, CameraCalibrationToYaml(*camera, {})); !s)
+      throw CommandError(s.error());
+    PrintConversion("camera", conversion);
+    std::printf("written %s\n", args.camera.c_str());
+    return;
+  }
+  if (args.out.empty()) throw CommandError("import-opencv: give --out or --camera");
+  OpenCvExport conversion;
+  const Result<Calibration> cal = LoadOpenCvStereo(args.opencv, &conversion);
+  if (!cal) throw CommandError(cal.error());
+  if (Status s = SaveCalibrationYaml(*cal, args.out); !s) throw CommandError(s.error());
+  PrintConversion("left", conversion.left);
+  PrintConversion("right", conversion.right);
+  std::printf("written %s\n", args.out.c_str());
+}
+
+void AddOpenCvCommands(CLI::App* calibrate) {
+  auto args = std::make_shared<OpenCvArgs>();
+  CLI::App* out = calibrate->add_subcommand(
+      "export-opencv",
+      "Write a calibration as OpenCV FileStorage YAML (cameraMatrix, distCoeffs, "
+      "R, T), the lens model converted");
+  out->add_option("--calibration", args->calibration, "a stereo calibration (calibration.yaml)");
+  out->add_option("--camera", args->camera, "or one camera's (calibrate camera --out)");
+  out->add_option("--out", args->out, "OpenCV YAML to write")->required();
+  out->callback([args] { RunExportOpenCv(*args); });
+  CLI::App* in = calibrate->add_subcommand(
+      "import-opencv",
+      "Read an OpenCV FileStorage calibration (stereoCalibrate's or one camera's)");
+  in->add_option("--opencv", args->opencv, "OpenCV YAML or XML to read")->required();
+  in->add_option("--out", args->out, "stereo calibration (YAML) to write");
+  in->add_option("--camera", args->camera, "or one camera's calibration to write");
+  in->callback([args] { RunImportOpenCv(*args); });
+}
+
 void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
   cmd->add_option("--chessboard", args->board_size,
                   "inner corners COLUMNSxROWS (default " + args->board_size + ")");
@@ -253,6 +329,7 @@ void AddCalibrateCommand(CLI::App& app) {
                      "keep the stage kinematics and the rig's roll from this calibration");
   stereo->add_option("--out", stereo_args->out, "calibration file (YAML) for process")->required();
   stereo->callback([stereo_args] { RunCalibrateStereo(*stereo_args); });
+  AddOpenCvCommands(calibrate);
 }
 
 }  // namespace ts

@@ -65,6 +65,26 @@ TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
                    j["stereo"]["baseline_sigma"].get<double>());
   EXPECT_TRUE(cal->left_precision.known);
   EXPECT_DOUBLE_EQ(cal->left_precision.sigma[0], j["left"]["sigma"]["c"].get<double>());
+
+  // Through OpenCV's FileStorage and back: the same rig, the conversion's difference said.
+  const std::string opencv = dir / "stereo.yml", back = dir / "back.yaml";
+  const auto e = RunCommand(kExe + " calibrate export-opencv --calibration " + out + " --out " +
+                            opencv + " 2>&1");
+  ASSERT_EQ(e.exit_code, 0) << e.out;
+  EXPECT_NE(e.out.find("left: the two lens models project the frame alike within"),
+            std::string::npos)
+      << e.out;
+  const auto i =
+      RunCommand(kExe + " calibrate import-opencv --opencv " + opencv + " --out " + back + " 2>&1");
+  ASSERT_EQ(i.exit_code, 0) << i.out;
+  const Result<Calibration> imported = LoadCalibrationYaml(back);
+  ASSERT_TRUE(imported.ok()) << imported.error();
+  EXPECT_NEAR(imported->rig.baseline_m, cal->rig.baseline_m, 1e-9);
+  EXPECT_TRUE(imported->rig.left_from_right.isApprox(cal->rig.left_from_right, 1e-9));
+  EXPECT_NEAR(imported->rig.left.principal_distance_px, cal->rig.left.principal_distance_px, 3.0);
+  const auto neither = RunCommand(kExe + " calibrate export-opencv --out " + opencv + " 2>&1");
+  EXPECT_EQ(neither.exit_code, 1);
+  EXPECT_NE(neither.out.find("give one of --calibration and --camera"), std::string::npos);
 }
 
 TEST(CalibrateCommand, StereoViewsThatCannotBePairedAreOneClearError) {
