@@ -1,0 +1,153 @@
+#include "sim/calibration_views.h"
+
+#include <cmath>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "sim/noise.h"
+
+namespace ts::sim {
+namespace {
+
+constexpr float kBlack = 0.06f, kWhite = 0.8f, kBackground = 0.35f;
+
+// The board's radiance at a point of its plane: squares from one square before the first inner
+// corner to one after the last, a white margin of one square around them, a grey wall beyond.
+float BoardRadiance(const ChessboardOptions& b, double x, double y) {
+  const double i = std::floor(x / b.square), j = std::floor(y / b.square);
+  if (i < -2 || j < -2 || i > b.columns || j > b.rows) return kBackground;
+  if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return kWhite;
+  return (static_cast<int64_t>(i + j) % 2 == 0) ? kBlack : kWhite;
+}
+
+// A pose of the board in the left camera's frame, its centre at a random place in the view.
+Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOptions& o,
+                                  const CameraIntrinsics& camera) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double distance = o.min_distance_m + (o.max_distance_m - o.min_distance_m) * u(rng);
+  // Across the frame, so that the corners reach its edges; one placement in eight beyond the
+  // edge, so that some boards run off it.
+  const double reach = u(rng) < 0.125 ? 0.6 : 0.32;
+  const double px = camera.width_px * (0.5 + reach * (2 * u(rng) - 1));
+  const double py = camera.height_px * (0.5 + reach * (2 * u(rng) - 1));
+  const Eigen::Vector3d centre = CameraModel(camera).RayFromPixel({px, py}).normalized() * distance;
+  const double tilt = o.max_tilt_deg * M_PI / 180.0;
+  const Eigen::Matrix3d facing =
+      (Eigen::AngleAxisd(tilt * (2 * u(rng) - 1), Eigen::Vector3d::UnitX()) *
+       Eigen::AngleAxisd(tilt * (2 * u(rng) - 1), Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.3 * (2 * u(rng) - 1), Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = facing;
+  const ChessboardOptions b = o.Board();
+  const Eigen::Vector3d board_centre(0.5 * (b.columns - 1) * b.square,
+                                     0.5 * (b.rows - 1) * b.square, 0.0);
+  pose.translation() = centre - facing * board_centre;
+  return pose;
+}
+
+cv::Mat Expose(const cv::Mat& radiance, const CameraIntrinsics& camera, const SensorModel& sensor,
+               double exposure_us, uint64_t seed) {
+  return ExposeImage(radiance, camera, sensor, exposure_us, 0.0, PixelFormat::kMono8, seed);
+}
+
+// The pixels the board (with its margin) can cover: its outline projected, widened by a few
+// pixels for the curvature of its edges; the whole frame when some of it is behind the camera.
+cv::Rect BoardExtent(const CameraModel& model, const Eigen::Isometry3d& camera_from_board,
+                     const ChessboardOptions& b) {
+  const CameraIntrinsics& c = model.intrinsics();
+  const cv::Rect frame(0, 0, c.width_px, c.height_px);
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(1e300), high = -low;
+  for (int k = 0; k <= 40; ++k) {  // along the outline, 10 points a side
+    const double t = (k % 10) / 10.0;
+    const double x0 = -2 * b.square, y0 = -2 * b.square;
+    const double x1 = (b.columns + 1) * b.square, y1 = (b.rows + 1) * b.square;
+    const int side = k / 10;
+    const Eigen::Vector3d p = side == 0   ? Eigen::Vector3d(x0 + t * (x1 - x0), y0, 0)
+                              : side == 1 ? Eigen::Vector3d(x1, y0 + t * (y1 - y0), 0)
+                              : side == 2 ? Eigen::Vector3d(x1 - t * (x1 - x0), y1, 0)
+                                          : Eigen::Vector3d(x0, y1 - t * (y1 - y0), 0);
+    Eigen::Vector2d pixel;
+    if (!model.Project(camera_from_board * p, &pixel)) return frame;
+    low = low.cwiseMin(pixel);
+    high = high.cwiseMax(pixel);
+  }
+  if (!(high.x() - low.x() < 1e5 && high.y() - low.y() < 1e5)) return frame;
+  const cv::Rect widened(static_cast<int>(std::floor(low.x())) - 8,
+                         static_cast<int>(std::floor(low.y())) - 8,
+                         static_cast<int>(std::ceil(high.x() - low.x())) + 16,
+                         static_cast<int>(std::ceil(high.y() - low.y())) + 16);
+  return widened & frame;
+}
+
+}  // namespace
+
+bool BoardSessionOptions::Check(std::string* why) const {
+  if (!CheckDeclaredOptions(*this, why)) return false;
+  if (min_distance_m > max_distance_m) {
+    if (why) *why = "min_distance_m must not exceed max_distance_m";
+    return false;
+  }
+  return true;
+}
+
+cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
+                        const ChessboardOptions& board, bool board_in_view, int supersampling) {
+  const CameraModel model(camera);
+  const Eigen::Isometry3d board_from_camera = camera_from_board.inverse();
+  const Eigen::Vector3d origin = board_from_camera.translation();
+  cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kBackground));
+  if (!board_in_view) return radiance;
+  const cv::Rect extent = BoardExtent(model, camera_from_board, board);
+  const int s = supersampling;
+  cv::parallel_for_(cv::Range(extent.y, extent.y + extent.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y)
+      for (int x = extent.x; x < extent.x + extent.width; ++x) {
+        double sum = 0.0;
+        for (int j = 0; j < s; ++j)
+          for (int i = 0; i < s; ++i) {
+            const Eigen::Vector2d pixel(x - 0.5 + (i + 0.5) / s, y - 0.5 + (j + 0.5) / s);
+            const Eigen::Vector3d d = board_from_camera.linear() * model.RayFromPixel(pixel);
+            const double t = -origin.z() / d.z();
+            sum += t > 0.0 ? BoardRadiance(board, origin.x() + t * d.x(), origin.y() + t * d.y())
+                           : kBackground;
+          }
+        radiance.at<float>(y, x) = static_cast<float>(sum / (s * s));
+      }
+  });
+  return radiance;
+}
+
+std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
+                                               const BoardSessionOptions& o) {
+  std::mt19937_64 rng(Hash(seed, 0xB0A2D, 0x5E55));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const StereoRig& truth = rig.truth.rig;
+  const Eigen::Isometry3d right_from_left =
+      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  std::vector<BoardPlacement> session;
+  for (int k = 0; k < o.placements; ++k) {
+    BoardPlacement p;
+    char name[16];
+    std::snprintf(name, sizeof(name), "%02d", k + 1);
+    p.name = name;
+    p.left_from_board = RandomPlacement(rng, o, truth.left);
+    p.board = u(rng) >= o.empty_share;
+    p.blurred = u(rng) < o.blurred_share;
+    for (Side side : {Side::kLeft, Side::kRight}) {
+      const bool left = side == Side::kLeft;
+      const CameraIntrinsics& camera = left ? truth.left : truth.right;
+      cv::Mat radiance =
+          RenderBoardView(camera, left ? p.left_from_board : right_from_left * p.left_from_board,
+                          o.Board(), p.board, o.supersampling);
+      if (p.blurred) cv::GaussianBlur(radiance, radiance, cv::Size(), 1.5);
+      (left ? p.left : p.right) =
+          Expose(radiance, camera, rig.sensor(side), o.exposure_us, Hash(seed, k, left ? 1 : 2));
+    }
+    session.push_back(std::move(p));
+  }
+  return session;
+}
+
+}  // namespace ts::sim

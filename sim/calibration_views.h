@@ -1,0 +1,65 @@
+#pragma once
+// Calibration views of the simulated rig's true (imperfect) cameras: a chessboard held at many
+// poses and distances in front of the stereo pair, as a field team takes them. Each image is
+// rendered exactly through the true camera model (every sample's ray from its measured pixel,
+// camera_model.h, met with the board's plane), anti-aliased by supersampling, then exposed by
+// the sensor model with its noise. Some placements run partly out of a frame, some are blurred
+// (a hand that moved), some show no board: the calibration must skip and name them.
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "core/options.h"
+#include "processing/calibration/chessboard.h"
+#include "sim/sim_rig.h"
+
+namespace ts::sim {
+
+struct BoardSessionOptions {
+  int placements = 16;
+  int columns = 9;  // inner corners
+  int rows = 6;
+  double square_m = 0.12;
+  double min_distance_m = 2.5;
+  double max_distance_m = 5.5;
+  double max_tilt_deg = 35.0;
+  double blurred_share = 0.1;  // of the placements, blurred by 1.5 px
+  double empty_share = 0.05;   // of the placements, no board in view
+  int supersampling = 4;       // per axis
+  double exposure_us = 3000.0;
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("placements", self.placements, {"board placements (stereo pairs)", "", 1, 1000});
+    v("columns", self.columns, {"inner corners along a row", "", 3, 50});
+    v("rows", self.rows, {"inner corners along a column", "", 3, 50});
+    v("square_m", self.square_m, {"side of a square", "m", 0.005, 1});
+    v("min_distance_m", self.min_distance_m, {"nearest board", "m", 0.3, 100});
+    v("max_distance_m", self.max_distance_m, {"farthest board", "m", 0.3, 100});
+    v("max_tilt_deg", self.max_tilt_deg, {"board tilt from facing the rig, at most", "deg", 0, 70});
+    v("blurred_share", self.blurred_share, {"share of placements blurred", "", 0, 1});
+    v("empty_share", self.empty_share, {"share of placements without a board", "", 0, 1});
+    v("supersampling", self.supersampling, {"samples per pixel per axis", "", 1, 16});
+    v("exposure_us", self.exposure_us, {"exposure time", "us", 10, 1e6});
+  }
+  bool Check(std::string* why) const;
+  ChessboardOptions Board() const { return {columns, rows, square_m}; }
+};
+
+struct BoardPlacement {
+  std::string name;  // "03"
+  Eigen::Isometry3d left_from_board = Eigen::Isometry3d::Identity();
+  bool board = true;  // false: a view without a board
+  bool blurred = false;
+  cv::Mat left, right;  // Mono8
+};
+
+// The placements for the rig, deterministic for the seed.
+std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
+                                               const BoardSessionOptions& options);
+
+// One camera's view of the board (radiance, before the sensor), exposed to Mono8.
+cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
+                        const ChessboardOptions& board, bool board_in_view, int supersampling);
+
+}  // namespace ts::sim
