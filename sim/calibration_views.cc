@@ -47,11 +47,6 @@ Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOption
   return pose;
 }
 
-cv::Mat Expose(const cv::Mat& radiance, const CameraIntrinsics& camera, const SensorModel& sensor,
-               double exposure_us, uint64_t seed) {
-  return ExposeImage(radiance, camera, sensor, exposure_us, 0.0, PixelFormat::kMono8, seed);
-}
-
 // The pixels the board (with its margin) can cover: its outline projected, widened by a few
 // pixels for the curvature of its edges; the whole frame when some of it is behind the camera.
 cv::Rect BoardExtent(const CameraModel& model, const Eigen::Isometry3d& camera_from_board,
@@ -143,7 +138,8 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                           o.Board(), p.board, o.supersampling);
       if (p.blurred) cv::GaussianBlur(radiance, radiance, cv::Size(), 1.5);
       (left ? p.left : p.right) =
-          Expose(radiance, camera, rig.sensor(side), o.exposure_us, Hash(seed, k, left ? 1 : 2));
+          ExposeImage(radiance, camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
+                      Hash(seed, k, left ? 1 : 2));
     }
     session.push_back(std::move(p));
   }

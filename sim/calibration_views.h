@@ -58,7 +58,7 @@ struct BoardPlacement {
 std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                                                const BoardSessionOptions& options);
 
-// One camera's view of the board (radiance, before the sensor), exposed to Mono8.
+// One camera's view of the board: its radiance, before the sensor.
 cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
                         const ChessboardOptions& board, bool board_in_view, int supersampling);
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "core/log.h"
 #include "processing/calibration/camera_calibration.h"
@@ -146,12 +147,10 @@ void RunCalibrateCamera(CalibrateArgs args) {
 // The stereo result as a calibration `process` reads: the stage kinematics and the rig's roll
 // about its baseline from --stage-from (the stage is calibrated on the rig, not on a board), or
 // the ideal stage and the roll that levels the mean viewing axis.
-Calibration CalibrationOf(const StereoCalibration& s, const std::string& stage_from) {
+Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibration>& previous) {
   Calibration cal;
   cal.rig = s.Rig(1.0);
-  if (!stage_from.empty()) {
-    const Result<Calibration> previous = LoadCalibrationYaml(stage_from);
-    if (!previous) throw CommandError("--stage-from: " + previous.error());
+  if (previous) {
     cal.stage = previous->stage;
     // X_S stays the calibrated baseline; Y_S as near the previous rig's as that allows.
     const Eigen::Vector3d x = cal.rig.S_from_left.row(0).transpose();
@@ -168,6 +167,12 @@ Calibration CalibrationOf(const StereoCalibration& s, const std::string& stage_f
 
 void RunCalibrateStereo(CalibrateArgs args) {
   ParseBoard(&args);
+  std::optional<Calibration> previous;  // read before the work that needs it
+  if (!args.stage_from.empty()) {
+    Result<Calibration> loaded = LoadCalibrationYaml(args.stage_from);
+    if (!loaded) throw CommandError("--stage-from: " + loaded.error());
+    previous = *loaded;
+  }
   const std::vector<std::string> left_files = ExpandGlob("--left", args.left);
   const std::vector<std::string> right_files = ExpandGlob("--right", args.right);
   if (left_files.size() != right_files.size())
@@ -181,7 +186,7 @@ void RunCalibrateStereo(CalibrateArgs args) {
   if (!s)
     throw CommandError(s.error() + " (the board found in " + std::to_string(left.views.size()) +
                        " left and " + std::to_string(right.views.size()) + " right images)");
-  const Calibration cal = CalibrationOf(*s, args.stage_from);
+  const Calibration cal = CalibrationOf(*s, previous);
   std::string why;
   if (!cal.Check(&why)) throw CommandError("the stereo calibration is not a valid rig: " + why);
   if (Status st = SaveCalibrationYaml(cal, args.out); !st) throw CommandError(st.error());

@@ -1,7 +1,5 @@
 #include "processing/calibration/camera_calibration.h"
 
-#include <ceres/rotation.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -97,11 +95,9 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
 
 // (baseline, omega, phi, kappa of left_from_right) from right_from_left as Ceres holds it.
 Eigen::Vector4d RelativeOrientation(const Pose6& right_from_left) {
-  Eigen::Matrix3d rotation;
-  ceres::AngleAxisToRotationMatrix(right_from_left.data(), rotation.data());
-  const Eigen::Vector3d t(right_from_left[3], right_from_left[4], right_from_left[5]);
-  const Opk opk = OpkFromRotation(rotation.transpose());
-  return {(rotation.transpose() * t).norm(), DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
+  const Eigen::Isometry3d left_from_right = IsometryFromPose(right_from_left).inverse();
+  const Opk opk = OpkFromRotation(left_from_right.linear());
+  return {left_from_right.translation().norm(), DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
           DegFromRad(opk.kappa_rad)};
 }
 

@@ -4,7 +4,6 @@
 #include <glog/logging.h>
 
 #include <Eigen/Dense>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -90,7 +89,7 @@ struct ProjectModelFit {
   }
 };
 
-double Solve(ceres::Problem* problem) {
+void Solve(ceres::Problem* problem) {
   FLAGS_minloglevel = google::GLOG_FATAL;  // a failed step is judged by the difference it leaves
   ceres::Solver::Options options;
   options.logging_type = ceres::SILENT;
@@ -101,7 +100,6 @@ double Solve(ceres::Problem* problem) {
   options.gradient_tolerance = 1e-16;
   ceres::Solver::Summary summary;
   ceres::Solve(options, problem, &summary);
-  return summary.final_cost;
 }
 
 // OpenCV's ideal normalised coordinates of a measured pixel, by Newton on its forward model.
@@ -127,7 +125,7 @@ bool UndistortOpenCv(const std::array<double, kOpenCvParameters>& q, const Eigen
 
 // The project's correction is linear in its distortion and affinity terms once the principal
 // distance and point are held (OpenCV's fy, cx, cy): i - r = d(r), solved in the least-squares
-// sense over the grid, the start of the fit in measured pixels.
+// sense over the grid, the start of the fit (ProjectModelFit).
 std::array<double, kN> LinearStart(const std::array<double, kOpenCvParameters>& q,
                                    const std::vector<ProjectModelFit>& fits) {
   std::array<double, kN> p{q[1], q[2], q[3]};
@@ -203,6 +201,34 @@ void LinearOpenCvStart(const std::vector<OpenCvFit>& fits, bool rational,
   for (size_t t = 0; t < terms.size(); ++t) (*q)[terms[t]] = solution[t];
 }
 
+// OpenCV's 5 or 8 coefficients fitted to the grid; the difference they leave in conversion.
+OpenCvCamera FitOpenCv(const CameraIntrinsics& camera, const std::vector<OpenCvFit>& fits,
+                       bool rational, ModelConversion* conversion) {
+  std::array<double, kOpenCvParameters> q{};
+  q[0] = camera.principal_distance_px / (1.0 + camera.scale_x);
+  q[1] = camera.principal_distance_px;
+  q[2] = camera.principal_point_x_px, q[3] = camera.principal_point_y_px;
+  LinearOpenCvStart(fits, rational, &q);
+  ceres::Problem problem;
+  for (const OpenCvFit& f : fits)
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<OpenCvFit, 2, kOpenCvParameters>(new OpenCvFit(f)), nullptr,
+        q.data());
+  // The skew stays zero: OpenCV's projectPoints does not apply it.
+  problem.SetManifold(q.data(), new ceres::SubsetManifold(
+                                    kOpenCvParameters, rational ? std::vector<int>{4}
+                                                                : std::vector<int>{4, 10, 11, 12}));
+  Solve(&problem);
+  conversion->max_difference_px = 0.0;
+  for (const OpenCvFit& f : fits) {
+    Eigen::Vector2d pixel;
+    OpenCvPixel(q.data(), f.ideal.x(), f.ideal.y(), &pixel.x(), &pixel.y());
+    conversion->max_difference_px =
+        std::max(conversion->max_difference_px, (pixel - f.pixel).norm());
+  }
+  return FromParameters(q, camera.width_px, camera.height_px, rational);
+}
+
 }  // namespace
 
 Eigen::Vector2d ProjectOpenCv(const OpenCvCamera& camera, const Eigen::Vector3d& point) {
@@ -225,32 +251,9 @@ Result<OpenCvCamera> ToOpenCv(const CameraIntrinsics& camera, ModelConversion* c
     const Eigen::Vector3d ray = model.RayFromPixel(pixel);
     fits.push_back({ray.head<2>() / ray.z(), pixel});
   }
-  for (bool rational : {false, true}) {
-    std::array<double, kOpenCvParameters> q{};
-    q[0] = camera.principal_distance_px / (1.0 + camera.scale_x);
-    q[1] = camera.principal_distance_px;
-    q[2] = camera.principal_point_x_px, q[3] = camera.principal_point_y_px;
-    LinearOpenCvStart(fits, rational, &q);
-    ceres::Problem problem;
-    for (const OpenCvFit& f : fits)
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<OpenCvFit, 2, kOpenCvParameters>(new OpenCvFit(f)),
-          nullptr, q.data());
-    // The skew stays zero: OpenCV's projectPoints does not apply it.
-    problem.SetManifold(
-        q.data(),
-        new ceres::SubsetManifold(
-            kOpenCvParameters, rational ? std::vector<int>{4} : std::vector<int>{4, 10, 11, 12}));
-    Solve(&problem);
-    const OpenCvCamera out = FromParameters(q, camera.width_px, camera.height_px, rational);
-    conversion->max_difference_px = 0.0;
-    for (const OpenCvFit& f : fits)
-      conversion->max_difference_px =
-          std::max(conversion->max_difference_px,
-                   (ProjectOpenCv(out, f.ideal.homogeneous()) - f.pixel).norm());
-    if (conversion->max_difference_px <= conversion->tolerance_px || rational) return out;
-  }
-  return Error{"unreachable"};
+  const OpenCvCamera five = FitOpenCv(camera, fits, false, conversion);
+  if (conversion->max_difference_px <= conversion->tolerance_px) return five;
+  return FitOpenCv(camera, fits, true, conversion);
 }
 
 Result<CameraIntrinsics> FromOpenCv(const OpenCvCamera& camera, ModelConversion* conversion) {
@@ -302,8 +305,9 @@ Result<CameraIntrinsics> FromOpenCv(const OpenCvCamera& camera, ModelConversion*
   }
   if (!(conversion->max_difference_px <= conversion->refuse_px))
     return Error{"distCoeffs: the project's lens model follows this one only to " +
-                 std::to_string(conversion->max_difference_px) + " px over the frame (tolerance " +
-                 std::to_string(conversion->refuse_px) + " px)"};
+                 std::to_string(conversion->max_difference_px) +
+                 " px over the frame (refused above " + std::to_string(conversion->refuse_px) +
+                 " px)"};
   return best;
 }
 

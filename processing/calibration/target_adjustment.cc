@@ -50,15 +50,6 @@ struct SecondCameraResidual {
   }
 };
 
-Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
-  Eigen::Matrix3d rotation;  // column-major, as Ceres writes it
-  ceres::AngleAxisToRotationMatrix(pose.data(), rotation.data());
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = rotation;
-  t.translation() = Eigen::Vector3d(pose[3], pose[4], pose[5]);
-  return t;
-}
-
 Pose6 PoseFromIsometry(const Eigen::Isometry3d& t) {
   Pose6 pose;
   const Eigen::Matrix3d rotation = t.linear();
@@ -269,9 +260,18 @@ bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
 
 }  // namespace
 
+Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
+  Eigen::Matrix3d rotation;  // column-major, as Ceres writes it
+  ceres::AngleAxisToRotationMatrix(pose.data(), rotation.data());
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = rotation;
+  t.translation() = Eigen::Vector3d(pose[3], pose[4], pose[5]);
+  return t;
+}
+
 Eigen::Isometry3d TargetAdjustment::CameraFromTarget(int camera, int placement) const {
   const Eigen::Isometry3d first = IsometryFromPose(first_from_target.at(placement));
-  return camera == 0 ? first : IsometryFromPose(second_from_first) * first;
+  return camera == 0 ? first : SecondFromFirst() * first;
 }
 
 Eigen::Isometry3d TargetAdjustment::SecondFromFirst() const {

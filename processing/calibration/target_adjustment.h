@@ -93,6 +93,8 @@ Status InitialiseTargetAdjustment(TargetAdjustment* adjustment,
 Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* adjustment,
                                                   const TargetAdjustmentOptions& options);
 
+Eigen::Isometry3d IsometryFromPose(const Pose6& pose);
+
 // The measured minus the projected pixel, [camera][view][pixel] (the project's projection).
 std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(
     const TargetAdjustment& adjustment);

@@ -40,14 +40,10 @@ CameraPrecision ParseCameraPrecision(YamlMap& m) {
 }
 
 CameraIntrinsics ParseCamera(YamlMap m, int version, CameraPrecision* precision) {
-  if (version >= 2)
-    m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
-                           "principal_distance_mm", "principal_point_px", "distortion", "affinity",
-                           "sigma", "covariance", "rms_px"});
-  else
-    m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
-                           "principal_distance_mm", "principal_point_px", "distortion",
-                           "affinity"});
+  // Schema 1 leaves the precision keys unread: RejectUnknownKeys below names them.
+  m.RejectKeysOtherThan({"width_px", "height_px", "pixel_size_um", "principal_distance_px",
+                         "principal_distance_mm", "principal_point_px", "distortion", "affinity",
+                         "sigma", "covariance", "rms_px"});
   if (version >= 2) {
     const CameraPrecision parsed = ParseCameraPrecision(m);
     if (precision) *precision = parsed;

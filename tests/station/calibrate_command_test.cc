@@ -87,6 +87,33 @@ TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
   EXPECT_NE(neither.out.find("give one of --calibration and --camera"), std::string::npos);
 }
 
+// --stage-from: the stage kinematics come from the previous calibration, the rig's baseline
+// and cameras from the boards; a file that cannot be read stops the command before the work.
+TEST(CalibrateCommand, StereoKeepsTheStageOfThePreviousCalibration) {
+  testing::TempDir dir;
+  const std::string previous = dir / "previous.yaml", out = dir / "cal.yaml";
+  Calibration old;
+  old.rig.left = old.rig.right = CameraIntrinsics{640, 480, 0.0, 530.0, 320.0, 240.0};
+  old.rig.baseline_m = 0.08;
+  old.stage.height_above_mark_m = 1.37;
+  old.stage.pan_zero_deg = 2.5;
+  ASSERT_TRUE(SaveCalibrationYaml(old, previous).ok());
+  const std::string command = kExe + " calibrate stereo --left '" + kBoards +
+                              "/left*.jpg' --right '" + kBoards +
+                              "/right*.jpg' --square 0.025 --out " + out + " --stage-from ";
+  const auto missing = RunCommand(command + (dir / "none.yaml") + " 2>&1");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.out.find("--stage-from: "), std::string::npos) << missing.out;
+  EXPECT_EQ(missing.out.find("no 9x6 chessboard"), std::string::npos) << "stopped before detection";
+  const auto r = RunCommand(command + previous + " 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const Result<Calibration> cal = LoadCalibrationYaml(out);
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_DOUBLE_EQ(cal->stage.height_above_mark_m, 1.37);
+  EXPECT_DOUBLE_EQ(cal->stage.pan_zero_deg, 2.5);
+  EXPECT_NEAR(cal->rig.baseline_m / 0.025, 3.32, 0.05) << "the baseline from the boards";
+}
+
 TEST(CalibrateCommand, StereoViewsThatCannotBePairedAreOneClearError) {
   testing::TempDir dir;
   const std::string out = dir / "cal.yaml";
