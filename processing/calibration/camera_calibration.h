@@ -26,7 +26,7 @@ struct CameraCalibrationOptions {
   bool fix_k3 = false;
   bool fix_tangential = false;  // p1, p2
   bool fix_scale_x = false;     // the affinity (fx differs from fy)
-  bool fix_shear = true;        // no sensor has shown one; frees a parameter few views fix
+  bool fix_shear = false;
   // A distortion or affinity term below this |estimate| / sigma is fixed at zero and the
   // adjustment repeated, least significant first (about 95 % two-sided).
   double significance_t = 2.0;

@@ -241,10 +241,8 @@ Eigen::Vector2d ProjectOpenCv(const OpenCvCamera& camera, const Eigen::Vector3d&
 Result<OpenCvCamera> ToOpenCv(const CameraIntrinsics& camera, ModelConversion* conversion) {
   std::string why;
   if (!camera.Check(&why)) return Error{why};
-  // A symmetric shear is OpenCV's skew and a turn of the camera about its axis, and OpenCV's
-  // projectPoints ignores the skew: no OpenCV file can hold it.
-  if (camera.shear != 0.0)
-    return Error{"shear: OpenCV's model has no symmetric shear; calibrate with the shear fixed"};
+  // A symmetric shear is a skew and a turn of the camera about its axis, and OpenCV's
+  // projectPoints ignores a skew: what the fit cannot follow stays in max_difference_px.
   const CameraModel model(camera);
   std::vector<OpenCvFit> fits;
   for (const Eigen::Vector2d& pixel : FrameGrid(camera.width_px, camera.height_px)) {

@@ -62,7 +62,18 @@ cv::Mat CameraMatrix(const IntrinsicVector& p) {
   return (cv::Mat_<double>(3, 3) << p[0], 0, p[1], 0, p[0], p[2], 0, 0, 1);
 }
 
-// Zhang's closed form over one camera's views of a planar target.
+// The principal distance of Zhang's closed form (OpenCV's initCameraMatrix2D, principal point
+// at the frame's centre) over the given views; 0 when they do not determine one.
+double ZhangFocalLength(const std::vector<std::vector<cv::Point3f>>& object,
+                        const std::vector<std::vector<cv::Point2f>>& image, cv::Size size) {
+  const cv::Mat k = cv::initCameraMatrix2D(object, image, size, 1.0);
+  const double f = k.at<double>(1, 1);
+  return f > 0.0 && std::isfinite(f) ? f : 0.0;
+}
+
+// Zhang's closed form over one camera's views of a planar target. Its least squares over all
+// views can fail (a negative f^2) when a few views with small, distant boards outweigh the
+// rest; then the median of the views that determine f alone.
 Status ZhangStart(const TargetViews& views, IntrinsicVector* intrinsics) {
   std::vector<std::vector<cv::Point3f>> object;
   std::vector<std::vector<cv::Point2f>> image;
@@ -77,14 +88,22 @@ Status ZhangStart(const TargetViews& views, IntrinsicVector* intrinsics) {
     }
   }
   if (object.size() < 3) return Error{"at least 3 views of the target are needed"};
-  const cv::Mat k = cv::initCameraMatrix2D(object, image, {views.width_px, views.height_px}, 1.0);
-  const double f = k.at<double>(1, 1);
-  if (!(f > 0.0) || !std::isfinite(f))
-    return Error{"the views do not determine a focal length (are they all parallel?)"};
+  const cv::Size size(views.width_px, views.height_px);
+  double f = ZhangFocalLength(object, image, size);
+  if (f == 0.0) {
+    std::vector<double> single;
+    for (size_t v = 0; v < object.size(); ++v)
+      if (const double fv = ZhangFocalLength({object[v]}, {image[v]}, size); fv > 0.0)
+        single.push_back(fv);
+    if (single.size() < 3)
+      return Error{"the views do not determine a focal length (are they all parallel?)"};
+    std::nth_element(single.begin(), single.begin() + single.size() / 2, single.end());
+    f = single[single.size() / 2];
+  }
   intrinsics->fill(0.0);
   (*intrinsics)[0] = f;
-  (*intrinsics)[1] = k.at<double>(0, 2);
-  (*intrinsics)[2] = k.at<double>(1, 2);
+  (*intrinsics)[1] = 0.5 * (size.width - 1);
+  (*intrinsics)[2] = 0.5 * (size.height - 1);
   return {};
 }
 
@@ -148,8 +167,20 @@ void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::
       double* pose = a->first_from_target.at(view.placement).data();
       for (size_t i = 0; i < view.pixels.size(); ++i) {
         if (a->rejected[c][v][i]) continue;
-        ceres::LossFunction* loss = o.huber_px > 0.0 ? new ceres::HuberLoss(o.huber_px) : nullptr;
         const Eigen::Vector3d& target = camera.target[view.ids[i]];
+        // A point the current model cannot project would stop Ceres before its first step: a
+        // gross error for this round, judged again after it.
+        double residual[2];
+        const bool projects =
+            c == 0 ? FirstCameraResidual{target, view.pixels[i]}(a->intrinsics[c].data(), pose,
+                                                                 residual)
+                   : SecondCameraResidual{target, view.pixels[i]}(
+                         a->intrinsics[c].data(), a->second_from_first.data(), pose, residual);
+        if (!projects) {
+          a->rejected[c][v][i] = 1;
+          continue;
+        }
+        ceres::LossFunction* loss = o.huber_px > 0.0 ? new ceres::HuberLoss(o.huber_px) : nullptr;
         if (c == 0)
           problem->AddResidualBlock(new ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6>(
                                         new FirstCameraResidual{target, view.pixels[i]}),
@@ -180,11 +211,14 @@ Status Solve(ceres::Problem* problem, const TargetAdjustmentOptions& o, int* ite
   solver.max_num_iterations = o.max_iterations;
   solver.function_tolerance = 1e-12;
   solver.parameter_tolerance = 1e-12;
-  solver.num_threads = 1;
+  solver.num_threads = 2;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, problem, &summary);
   *iterations += static_cast<int>(summary.iterations.size());
-  if (!summary.IsSolutionUsable()) return Error{"the adjustment failed: " + summary.message};
+  // A model driven to where it cannot project its own points does not describe the views.
+  if (!summary.IsSolutionUsable())
+    return Error{"the adjustment does not fit the views (" + summary.message +
+                 "): is the board size right?"};
   return {};
 }
 
@@ -233,7 +267,7 @@ int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool ma
 bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
                         AdjustmentPrecision* precision) {
   ceres::Covariance::Options options;
-  options.algorithm_type = ceres::DENSE_SVD;
+  options.algorithm_type = ceres::SPARSE_QR;
   ceres::Covariance covariance(options);
   std::vector<std::pair<const double*, const double*>> blocks;
   for (auto& intrinsics : a->intrinsics) blocks.emplace_back(intrinsics.data(), intrinsics.data());
@@ -358,10 +392,30 @@ std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(const Tar
   return residuals;
 }
 
+namespace {
+
+// A term fixed at zero is not known to be zero, only not to differ from it by more than about
+// its sigma; the parameters correlated with it move with it. The mean squared error of the
+// reduced model's estimates, with the fixed terms as large as their sigmas, is the full model's
+// covariance: that is what is reported for the terms left free.
+void KeepFullModelCovariance(const TargetAdjustment& a, const AdjustmentPrecision& full,
+                             AdjustmentPrecision* reduced) {
+  for (size_t c = 0; c < a.cameras.size(); ++c) {
+    IntrinsicMatrix covariance = full.intrinsics_covariance[c];
+    for (int j = 0; j < kN; ++j)
+      if (a.fixed[c][j]) covariance.row(j).setZero(), covariance.col(j).setZero();
+    reduced->intrinsics_covariance[c] = covariance;
+  }
+  reduced->relative_covariance = full.relative_covariance;
+}
+
+}  // namespace
+
 Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
     TargetAdjustment* a, const TargetAdjustmentOptions& o, double t_critical,
     AdjustmentPrecision* precision) {
   std::vector<std::vector<std::string>> fixed(a->cameras.size());
+  const AdjustmentPrecision full = *precision;
   while (precision->determined) {
     int worst_camera = -1, worst_term = -1;
     double worst_t = t_critical;
@@ -372,7 +426,7 @@ Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
         const double t = sigma > 0.0 ? std::abs(a->intrinsics[c][j]) / sigma : 0.0;
         if (t < worst_t) worst_t = t, worst_camera = static_cast<int>(c), worst_term = j;
       }
-    if (worst_term < 0) return fixed;
+    if (worst_term < 0) break;
     a->fixed[worst_camera][worst_term] = true;
     a->intrinsics[worst_camera][worst_term] = 0.0;
     char text[64];
@@ -386,6 +440,7 @@ Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
     if (!again) return Error{again.error()};
     *precision = *again;
   }
+  if (precision->determined && full.determined) KeepFullModelCovariance(*a, full, precision);
   return fixed;
 }
 

@@ -102,6 +102,8 @@ std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(
 // Backward elimination of distortion terms (k1 k2 k3 p1 p2 scale_x shear): while the least
 // significant free term, |estimate| / sigma, is below t_critical and not kept, it is fixed at
 // zero and the adjustment solved again. Returns, per camera, "k3 (t 0.4)" for each term fixed.
+// The covariances left in precision are the full model's (its sigmas cover what fixing a term
+// at zero may have shifted); sigma0 and the rejections are the reduced model's.
 Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
     TargetAdjustment* adjustment, const TargetAdjustmentOptions& options, double t_critical,
     AdjustmentPrecision* precision);

@@ -123,6 +123,7 @@ TEST(CameraCalibration, RecoversAKnownCameraWithHonestSigmas) {
   }
   CameraCalibrationOptions options;
   options.fix_k3 = true;
+  options.fix_shear = true;
   options.keep_all_terms = true;
   const Result<CameraCalibration> r = CalibrateCamera(views, options);
   ASSERT_TRUE(r.ok()) << r.error();
