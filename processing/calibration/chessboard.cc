@@ -1,7 +1,9 @@
 #include "processing/calibration/chessboard.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace ts {
 
@@ -21,12 +23,44 @@ std::vector<Eigen::Vector3d> ChessboardCorners(const ChessboardOptions& o) {
   return corners;
 }
 
+namespace {
+
+// The shortest side of a square in the image, from neighbouring corners.
+double ShortestSquareSide(const std::vector<cv::Point2f>& corners, const ChessboardOptions& o) {
+  double shortest = 1e30;
+  for (int r = 0; r < o.rows; ++r)
+    for (int c = 0; c < o.columns; ++c) {
+      const cv::Point2f& p = corners[r * o.columns + c];
+      if (c + 1 < o.columns)
+        shortest = std::min<double>(shortest, cv::norm(corners[r * o.columns + c + 1] - p));
+      if (r + 1 < o.rows)
+        shortest = std::min<double>(shortest, cv::norm(corners[(r + 1) * o.columns + c] - p));
+    }
+  return shortest;
+}
+
+// The sector-based detector's corners are biased on strongly tilted, anti-aliased boards (on
+// simulated boards tilted up to 50 deg: 44 of 3800 corners rejected as > 5 sigma0, the
+// principal distance 4 sigma off). The gradient-orthogonality refinement (cornerSubPix) is
+// unbiased for an X-junction under any affine view of it, as long as its window holds that
+// junction alone: half a window at most a third of the shortest square side, 5 px at most.
+void RefineCorners(const cv::Mat& grey, const ChessboardOptions& o,
+                   std::vector<cv::Point2f>* corners) {
+  const int half = std::min(5, static_cast<int>(ShortestSquareSide(*corners, o) / 3.0));
+  if (half < 2) return;
+  cv::cornerSubPix(grey, *corners, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 50, 1e-4));
+}
+
+}  // namespace
+
 std::optional<std::vector<Eigen::Vector2d>> DetectChessboard(const cv::Mat& grey,
                                                              const ChessboardOptions& o) {
   std::vector<cv::Point2f> found;
   const int flags = cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY;
   if (!cv::findChessboardCornersSB(grey, cv::Size(o.columns, o.rows), found, flags)) return {};
   if (found.size() != static_cast<size_t>(o.columns * o.rows)) return {};
+  RefineCorners(grey, o, &found);
   std::vector<Eigen::Vector2d> corners;
   for (const cv::Point2f& p : found) corners.emplace_back(p.x, p.y);
   return corners;
