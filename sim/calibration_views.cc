@@ -23,14 +23,21 @@ float BoardRadiance(const ChessboardOptions& b, double x, double y) {
 
 // A pose of the board in the left camera's frame, its centre at a random place in the view.
 Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOptions& o,
-                                  const CameraIntrinsics& camera) {
+                                  const CameraIntrinsics& camera, bool beyond) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double distance = o.min_distance_m + (o.max_distance_m - o.min_distance_m) * u(rng);
-  // Across the frame, so that the corners reach its edges; one placement in eight beyond the
-  // edge, so that some boards run off it.
-  const double reach = u(rng) < 0.125 ? 0.6 : 0.32;
-  const double px = camera.width_px * (0.5 + reach * (2 * u(rng) - 1));
-  const double py = camera.height_px * (0.5 + reach * (2 * u(rng) - 1));
+  // Across the frame, the board's centre where the whole board can be inside it, or beyond the
+  // edge.
+  const ChessboardOptions b = o.Board();
+  const double scale = camera.principal_distance_px / distance;
+  const double half_w = 0.5 * (b.columns + 3) * b.square * scale;
+  const double half_h = 0.5 * (b.rows + 3) * b.square * scale;
+  const double room_x =
+      beyond ? 0.6 * camera.width_px : std::max(0.0, 0.5 * camera.width_px - half_w);
+  const double room_y =
+      beyond ? 0.6 * camera.height_px : std::max(0.0, 0.5 * camera.height_px - half_h);
+  const double px = 0.5 * camera.width_px + room_x * (2 * u(rng) - 1);
+  const double py = 0.5 * camera.height_px + room_y * (2 * u(rng) - 1);
   const Eigen::Vector3d centre = CameraModel(camera).RayFromPixel({px, py}).normalized() * distance;
   const double tilt = o.max_tilt_deg * M_PI / 180.0;
   const Eigen::Matrix3d facing =
@@ -40,11 +47,30 @@ Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOption
           .toRotationMatrix();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = facing;
-  const ChessboardOptions b = o.Board();
   const Eigen::Vector3d board_centre(0.5 * (b.columns - 1) * b.square,
                                      0.5 * (b.rows - 1) * b.square, 0.0);
   pose.translation() = centre - facing * board_centre;
   return pose;
+}
+
+// The board's outline (with its margin) in the image, 10 points a side; false when a part of it
+// is behind the camera or cannot be projected.
+bool BoardOutline(const CameraModel& model, const Eigen::Isometry3d& camera_from_board,
+                  const ChessboardOptions& b, std::vector<Eigen::Vector2d>* pixels) {
+  const double x0 = -2 * b.square, y0 = -2 * b.square;
+  const double x1 = (b.columns + 1) * b.square, y1 = (b.rows + 1) * b.square;
+  for (int k = 0; k < 40; ++k) {
+    const double t = (k % 10) / 10.0;
+    const int side = k / 10;
+    const Eigen::Vector3d p = side == 0   ? Eigen::Vector3d(x0 + t * (x1 - x0), y0, 0)
+                              : side == 1 ? Eigen::Vector3d(x1, y0 + t * (y1 - y0), 0)
+                              : side == 2 ? Eigen::Vector3d(x1 - t * (x1 - x0), y1, 0)
+                                          : Eigen::Vector3d(x0, y1 - t * (y1 - y0), 0);
+    Eigen::Vector2d pixel;
+    if (!model.Project(camera_from_board * p, &pixel)) return false;
+    pixels->push_back(pixel);
+  }
+  return true;
 }
 
 // The pixels the board (with its margin) can cover: its outline projected, widened by a few
@@ -53,18 +79,10 @@ cv::Rect BoardExtent(const CameraModel& model, const Eigen::Isometry3d& camera_f
                      const ChessboardOptions& b) {
   const CameraIntrinsics& c = model.intrinsics();
   const cv::Rect frame(0, 0, c.width_px, c.height_px);
+  std::vector<Eigen::Vector2d> outline;
+  if (!BoardOutline(model, camera_from_board, b, &outline)) return frame;
   Eigen::Vector2d low = Eigen::Vector2d::Constant(1e300), high = -low;
-  for (int k = 0; k <= 40; ++k) {  // along the outline, 10 points a side
-    const double t = (k % 10) / 10.0;
-    const double x0 = -2 * b.square, y0 = -2 * b.square;
-    const double x1 = (b.columns + 1) * b.square, y1 = (b.rows + 1) * b.square;
-    const int side = k / 10;
-    const Eigen::Vector3d p = side == 0   ? Eigen::Vector3d(x0 + t * (x1 - x0), y0, 0)
-                              : side == 1 ? Eigen::Vector3d(x1, y0 + t * (y1 - y0), 0)
-                              : side == 2 ? Eigen::Vector3d(x1 - t * (x1 - x0), y1, 0)
-                                          : Eigen::Vector3d(x0, y1 - t * (y1 - y0), 0);
-    Eigen::Vector2d pixel;
-    if (!model.Project(camera_from_board * p, &pixel)) return frame;
+  for (const Eigen::Vector2d& pixel : outline) {
     low = low.cwiseMin(pixel);
     high = high.cwiseMax(pixel);
   }
@@ -74,6 +92,17 @@ cv::Rect BoardExtent(const CameraModel& model, const Eigen::Isometry3d& camera_f
                          static_cast<int>(std::ceil(high.x() - low.x())) + 16,
                          static_cast<int>(std::ceil(high.y() - low.y())) + 16);
   return widened & frame;
+}
+
+// The whole board with its margin inside the frame: a chessboard can be found there.
+bool BoardInside(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
+                 const ChessboardOptions& b) {
+  const CameraModel model(camera);
+  std::vector<Eigen::Vector2d> outline;
+  if (!BoardOutline(model, camera_from_board, b, &outline)) return false;
+  for (const Eigen::Vector2d& pixel : outline)
+    if (!model.InImage(pixel)) return false;
+  return true;
 }
 
 }  // namespace
@@ -114,8 +143,8 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
   return radiance;
 }
 
-std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
-                                               const BoardSessionOptions& o) {
+std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
+                                             const BoardSessionOptions& o) {
   std::mt19937_64 rng(Hash(seed, 0xB0A2D, 0x5E55));
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const StereoRig& truth = rig.truth.rig;
@@ -127,9 +156,30 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
     char name[16];
     std::snprintf(name, sizeof(name), "%02d", k + 1);
     p.name = name;
-    p.left_from_board = RandomPlacement(rng, o, truth.left);
+    // A team holds the board where both cameras see all of it, except where a board running
+    // off the frame is wanted: a few tries find such a pose.
+    const bool beyond = u(rng) < 0.125;
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      p.left_from_board = RandomPlacement(rng, o, truth.left, beyond);
+      if (beyond || (BoardInside(truth.left, p.left_from_board, o.Board()) &&
+                     BoardInside(truth.right, right_from_left * p.left_from_board, o.Board())))
+        break;
+    }
     p.board = u(rng) >= o.empty_share;
     p.blurred = u(rng) < o.blurred_share;
+    session.push_back(std::move(p));
+  }
+  return session;
+}
+
+std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
+                                               const BoardSessionOptions& o) {
+  const StereoRig& truth = rig.truth.rig;
+  const Eigen::Isometry3d right_from_left =
+      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  std::vector<BoardPlacement> session = PlanBoardSession(rig, seed, o);
+  for (size_t k = 0; k < session.size(); ++k) {
+    BoardPlacement& p = session[k];
     for (Side side : {Side::kLeft, Side::kRight}) {
       const bool left = side == Side::kLeft;
       const CameraIntrinsics& camera = left ? truth.left : truth.right;
@@ -141,7 +191,6 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
           ExposeImage(radiance, camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
                       Hash(seed, k, left ? 1 : 2));
     }
-    session.push_back(std::move(p));
   }
   return session;
 }

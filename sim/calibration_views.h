@@ -17,13 +17,15 @@
 namespace ts::sim {
 
 struct BoardSessionOptions {
-  int placements = 16;
-  int columns = 9;  // inner corners
-  int rows = 6;
-  double square_m = 0.12;
-  double min_distance_m = 2.5;
-  double max_distance_m = 5.5;
-  double max_tilt_deg = 35.0;
+  // A session that determines the rig: many placements of a board with many corners, tilted
+  // strongly (the principal point comes from the tilts), near enough to fill much of the frame.
+  int placements = 40;
+  int columns = 16;  // inner corners
+  int rows = 11;
+  double square_m = 0.07;
+  double min_distance_m = 2.0;
+  double max_distance_m = 4.0;
+  double max_tilt_deg = 50.0;
   double blurred_share = 0.1;  // of the placements, blurred by 1.5 px
   double empty_share = 0.05;   // of the placements, no board in view
   int supersampling = 4;       // per axis
@@ -54,7 +56,10 @@ struct BoardPlacement {
   cv::Mat left, right;  // Mono8
 };
 
-// The placements for the rig, deterministic for the seed.
+// The placements for the rig, deterministic for the seed, without their images.
+std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
+                                             const BoardSessionOptions& options);
+// The same placements with both images rendered.
 std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                                                const BoardSessionOptions& options);
 
