@@ -1,10 +1,15 @@
 #include "sim/calibration_views.h"
 
 #include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "processing/io/atomic_file.h"
+#include "processing/io/calibration_yaml.h"
 #include "sim/noise.h"
 
 namespace ts::sim {
@@ -193,6 +198,49 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
     }
   }
   return session;
+}
+
+Status WriteBoardSession(const SimRig& rig, uint64_t seed, const BoardSessionOptions& o,
+                         const std::string& dir, const std::string& truth_dir) {
+  namespace fs = std::filesystem;
+  std::string why;
+  if (!o.Check(&why)) return Error{"board session: " + why};
+  std::error_code ec;
+  for (const fs::path& d : {fs::path(dir) / "left", fs::path(dir) / "right", fs::path(truth_dir)})
+    if (fs::create_directories(d, ec); ec) return Error{d.string() + ": " + ec.message()};
+  const std::vector<BoardPlacement> session = RenderBoardSession(rig, seed, o);
+  nlohmann::json placements = nlohmann::json::array();
+  for (const BoardPlacement& p : session) {
+    for (const auto& [side, image] : {std::pair{"left", &p.left}, std::pair{"right", &p.right}}) {
+      const fs::path file = fs::path(dir) / side / (p.name + ".png");
+      if (!cv::imwrite(file.string(), *image)) return Error{file.string() + ": cannot write"};
+    }
+    std::vector<double> pose;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) pose.push_back(p.left_from_board.matrix()(r, c));
+    placements.push_back(
+        {{"name", p.name}, {"board", p.board}, {"blurred", p.blurred}, {"left_from_board", pose}});
+  }
+  char board[32];
+  std::snprintf(board, sizeof(board), "%dx%d", o.columns, o.rows);
+  const nlohmann::json description = {
+      {"board", {{"columns", o.columns}, {"rows", o.rows}, {"square_m", o.square_m}}},
+      {"placements", o.placements},
+      {"calibrate", "topostation calibrate stereo --left '" + dir + "/left/*.png' --right '" + dir +
+                        "/right/*.png' --chessboard " + board + " --square " +
+                        std::to_string(o.square_m) + " --out CAL.yaml"}};
+  if (Status s = WriteFileAtomically((fs::path(dir) / "session.json").string(),
+                                     description.dump(2) + "\n");
+      !s)
+    return s;
+  if (Status s =
+          SaveCalibrationYaml(rig.truth, (fs::path(truth_dir) / "calibration.yaml").string());
+      !s)
+    return s;
+  const nlohmann::json truth = {
+      {"seed", seed}, {"options", DeclaredOptionsToJson(o)}, {"placements", placements}};
+  return WriteFileAtomically((fs::path(truth_dir) / "board_session.json").string(),
+                             truth.dump(2) + "\n");
 }
 
 }  // namespace ts::sim

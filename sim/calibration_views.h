@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/options.h"
+#include "core/result.h"
 #include "processing/calibration/chessboard.h"
 #include "sim/sim_rig.h"
 
@@ -66,5 +67,15 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
 // One camera's view of the board: its radiance, before the sensor.
 cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
                         const ChessboardOptions& board, bool board_in_view, int supersampling);
+
+// A rendered session written as a field team's camera would leave it, and its truth:
+//   DIR/left/NN.png, DIR/right/NN.png  the pairs (Mono8), NN from 01, views without a board too
+//   DIR/session.json                   the board (columns, rows, square) and the command that
+//                                      calibrates the pair from these images
+//   TRUTH/calibration.yaml             the rig's true calibration
+//   TRUTH/board_session.json           per placement: the board's pose in the left camera,
+//                                      whether a board is in view, whether it is blurred
+Status WriteBoardSession(const SimRig& rig, uint64_t seed, const BoardSessionOptions& options,
+                         const std::string& dir, const std::string& truth_dir);
 
 }  // namespace ts::sim

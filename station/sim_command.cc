@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "sim/calibration_views.h"
 #include "sim/faults.h"
 #include "sim/sim_server.h"
 #include "sim/sim_station.h"
@@ -40,9 +41,28 @@ struct RenderArgs {
   sim::StationRenderOptions render;
   bool mono16 = false;
   bool single_row = false;
+  std::string calibration;  // a calibration session instead of a station: "chessboard"
+  sim::BoardSessionOptions board;
 };
 
+// Chessboard views of the station's true rig (the same rig as `sim render` of this seed).
+void RunRenderCalibration(const RenderArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto station = Build(args.scene);
+  const sim::BoardSessionOptions& options = args.board;
+  const Status s = sim::WriteBoardSession(station->rig, station->scene.seed, options, args.out,
+                                          args.scene.truth_dir);
+  if (!s) throw CommandError(s.error());
+  std::printf(
+      "calibration session %s (%d chessboard placements, seed %llu) rendered in %.1f s; "
+      "truth in %s\n",
+      args.out.c_str(), options.placements, static_cast<unsigned long long>(station->scene.seed),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+      args.scene.truth_dir.c_str());
+}
+
 void RunRender(const RenderArgs& args) {
+  if (!args.calibration.empty()) return RunRenderCalibration(args);
   const auto t0 = std::chrono::steady_clock::now();
   const auto station = Build(args.scene);
   sim::StationRenderOptions options = args.render;
@@ -117,6 +137,14 @@ void AddSimCommand(CLI::App& app) {
   r->add_flag("--single-row", render->single_row,
               "no poses higher up where the terrain goes on above a view");
   AddDeclaredOption(r, "--range", render->render, "write_range_images");
+  r->add_option("--calibration", render->calibration,
+                "render a calibration session of the rig instead of a station: chessboard "
+                "(left/ and right/ images, session.json; the true calibration in --truth)")
+      ->check(CLI::IsMember({"chessboard"}));
+  AddDeclaredOption(r, "--placements", render->board, "placements");
+  AddDeclaredOption(r, "--board-columns", render->board, "columns");
+  AddDeclaredOption(r, "--board-rows", render->board, "rows");
+  AddDeclaredOption(r, "--square-m", render->board, "square_m");
   r->callback([render] { RunRender(*render); });
 
   auto serve = std::make_shared<ServeArgs>();

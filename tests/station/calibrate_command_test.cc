@@ -38,6 +38,44 @@ TEST(CalibrateCommand, RightCameraFromTheRealBoardsWritesItsFile) {
   EXPECT_DOUBLE_EQ(camera->principal_point_x_px, j["cx"].get<double>());
 }
 
+// The calibration workflow on the simulator: a rendered chessboard session of a station's true
+// rig, calibrated by the command a field team runs, compared with the truth the session wrote.
+TEST(CalibrateCommand, SimulatedChessboardSessionGivesTheTrueRig) {
+  testing::TempDir dir;
+  const std::string views = dir / "views", truth = dir / "truth", out = dir / "cal.yaml";
+  const auto render = RunCommand(kExe + " sim render --calibration chessboard --seed 3 " +
+                                 "--placements 10 --out " + views + " --truth " + truth + " 2>&1");
+  ASSERT_EQ(render.exit_code, 0) << render.out;
+  const auto session = nlohmann::json::parse(std::ifstream(views + "/session.json"));
+  EXPECT_EQ(session["board"]["columns"], 16);
+  const auto placements =
+      nlohmann::json::parse(std::ifstream(truth + "/board_session.json"))["placements"];
+  ASSERT_EQ(placements.size(), 10u);
+  for (const char* side : {"left", "right"})
+    EXPECT_TRUE(std::filesystem::exists(views + "/" + side + "/10.png")) << side;
+  const auto r =
+      RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' --right '" + views +
+                 "/right/*.png' --chessboard 16x11 --square 0.07 " + "--stage-from " + truth +
+                 "/calibration.yaml --out " + out + " --json 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const Result<Calibration> true_rig = LoadCalibrationYaml(truth + "/calibration.yaml");
+  ASSERT_TRUE(true_rig.ok()) << true_rig.error();
+  const CameraIntrinsics& left = true_rig->rig.left;
+  // Each within four of its sigmas, and the sigmas small: a calibration worth having.
+  const double c = j["left"]["fy"].get<double>(), c_sigma = j["left"]["sigma"]["c"];
+  EXPECT_NEAR(c, left.principal_distance_px, 4 * c_sigma);
+  EXPECT_LT(c_sigma / c, 5e-4);
+  EXPECT_NEAR(j["left"]["cx"].get<double>(), left.principal_point_x_px,
+              4 * j["left"]["sigma"]["xp"].get<double>());
+  const double baseline_sigma = j["stereo"]["baseline_sigma"];
+  EXPECT_NEAR(j["stereo"]["baseline"].get<double>(), true_rig->rig.baseline_m, 4 * baseline_sigma);
+  EXPECT_LT(baseline_sigma, 2e-4);
+  const Result<Calibration> written = LoadCalibrationYaml(out);
+  ASSERT_TRUE(written.ok()) << written.error();
+  EXPECT_TRUE(written->stereo_precision.known);
+}
+
 // The stereo pair: both cameras and the relative orientation, written as the calibration file
 // process reads (schema 2, with the sigmas), the baseline in the unit of --square.
 TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
