@@ -102,6 +102,11 @@ nlohmann::json CameraJson(const CameraCalibration& c) {
           {"view_rms_px", c.view_rms_px},
           {"observations", c.observations},
           {"rejected", c.rejected},
+          {"coverage",
+           {{"grid", {FrameCoverage::kColumns, FrameCoverage::kRows}},
+            {"share", c.coverage.share},
+            {"border_share", c.coverage.border_share},
+            {"counts", c.coverage.counts}}},
           {"warnings", c.warnings}};
 }
 
@@ -112,9 +117,10 @@ CameraPrecision PrecisionOf(const CameraCalibration& c) {
 void PrintCamera(const char* name, const CameraCalibration& c) {
   std::printf(
       "%s: %zu views, RMS %.3f px; c %.2f +- %.2f px, principal point %.2f %.2f (+- %.2f %.2f) "
-      "px; %d of %d observations rejected\n",
+      "px; %d of %d observations rejected; frame covered %.0f %% (edges %.0f %%)\n",
       name, c.view_rms_px.size(), c.rms_px, c.intrinsics.principal_distance_px, c.sigma[0], c.cx(),
-      c.cy(), c.sigma[1], c.sigma[2], c.rejected, c.observations);
+      c.cy(), c.sigma[1], c.sigma[2], c.rejected, c.observations, 100.0 * c.coverage.share,
+      100.0 * c.coverage.border_share);
   for (const std::string& term : c.fixed_insignificant)
     std::printf("  fixed at zero, not significant: %s\n", term.c_str());
   for (const std::string& pair : c.high_correlations)

@@ -85,6 +85,12 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
   r.rms_px = std::sqrt(total / std::max(1, r.observations));
   r.sigma0_px = precision.sigma0_px;
   r.iterations = precision.iterations;
+  r.coverage = views.Coverage();
+  if (r.coverage.border_share < o.warn_border_coverage)
+    r.warnings.push_back(
+        "observations in only " + Fixed(100.0 * r.coverage.border_share, 0) +
+        " % of the cells along the frame's edges: the distortion there is extrapolated; add "
+        "views with the board at the edges and corners of the frame");
   const double share = static_cast<double>(r.rejected) / std::max(1, r.observations);
   if (share > o.warn_rejected_share)
     r.warnings.push_back(Fixed(100.0 * share, 1) + " % of the observations rejected (" +

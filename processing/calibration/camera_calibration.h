@@ -36,6 +36,7 @@ struct CameraCalibrationOptions {
   double corner_sigma_px = 0.3;
   double max_sigma0_ratio = 10.0;
   double warn_rejected_share = 0.03;
+  double warn_border_coverage = 0.75;
   TargetAdjustmentOptions adjustment;
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
@@ -52,6 +53,8 @@ struct CameraCalibrationOptions {
       {"sigma0 above this many a priori sigmas: the model does not fit", "", 1, 1000});
     v("warn_rejected_share", self.warn_rejected_share,
       {"warn when more observations than this share are rejected", "", 0, 1});
+    v("warn_border_coverage", self.warn_border_coverage,
+      {"warn when fewer of the cells along the frame's edges hold an observation", "", 0, 1});
     v.Group("adjustment", self.adjustment);
   }
   bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
@@ -72,6 +75,7 @@ struct CameraCalibration {
   std::vector<Eigen::Isometry3d> camera_from_target;  // per view
   int observations = 0;                               // measured points
   int rejected = 0;
+  FrameCoverage coverage;
   int iterations = 0;
   std::vector<std::string> warnings;
   // The pinhole terms as OpenCV states them: fx, fy, cx, cy.

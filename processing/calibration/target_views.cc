@@ -1,5 +1,6 @@
 #include "processing/calibration/target_views.h"
 
+#include <cmath>
 #include <set>
 
 namespace ts {
@@ -15,6 +16,30 @@ int TargetViews::Observations() const {
   int n = 0;
   for (const TargetView& v : views) n += static_cast<int>(v.pixels.size());
   return n;
+}
+
+FrameCoverage TargetViews::Coverage() const {
+  constexpr int kColumns = FrameCoverage::kColumns, kRows = FrameCoverage::kRows;
+  FrameCoverage f;
+  f.counts.assign(kColumns * kRows, 0);
+  for (const TargetView& v : views)
+    for (const Eigen::Vector2d& p : v.pixels) {
+      const int i = static_cast<int>(std::floor(p.x() / width_px * kColumns));
+      const int j = static_cast<int>(std::floor(p.y() / height_px * kRows));
+      if (i >= 0 && i < kColumns && j >= 0 && j < kRows) ++f.counts[j * kColumns + i];
+    }
+  int covered = 0, border = 0, border_covered = 0;
+  for (int j = 0; j < kRows; ++j)
+    for (int i = 0; i < kColumns; ++i) {
+      const bool seen = f.counts[j * kColumns + i] > 0;
+      const bool edge = i == 0 || j == 0 || i == kColumns - 1 || j == kRows - 1;
+      covered += seen;
+      border += edge;
+      border_covered += edge && seen;
+    }
+  f.share = static_cast<double>(covered) / (kColumns * kRows);
+  f.border_share = static_cast<double>(border_covered) / border;
+  return f;
 }
 
 bool TargetViews::Planar() const {

@@ -19,6 +19,16 @@ struct TargetView {
   std::vector<Eigen::Vector2d> pixels;
 };
 
+// Where in the frame the views put observations: a grid of cells over the frame, each cell's
+// count. The distortion is only measured where there are observations; elsewhere, the frame's
+// edges and corners above all, it is extrapolated.
+struct FrameCoverage {
+  static constexpr int kColumns = 8, kRows = 6;
+  std::vector<int> counts;    // row-major, kColumns x kRows
+  double share = 0.0;         // of the cells holding an observation
+  double border_share = 0.0;  // of the cells along the frame's edges holding one
+};
+
 struct TargetViews {
   int width_px = 0;
   int height_px = 0;
@@ -31,6 +41,7 @@ struct TargetViews {
   int Observations() const;
   // Every target point at z = 0 (a board), which Zhang's closed form needs.
   bool Planar() const;
+  FrameCoverage Coverage() const;
   // Ids within the target, finite pixels, a size, a name per view.
   Status Check() const;
 };

@@ -142,6 +142,27 @@ TEST(CameraCalibration, RecoversAKnownCameraWithHonestSigmas) {
   }
 }
 
+// Cells of an 8 x 6 grid over an 800 x 600 frame: a corner cell, the opposite corner's last
+// pixel, a central cell; a pixel outside the frame counts nowhere.
+TEST(TargetViews, CoverageCountsTheCellsOfTheFrame) {
+  TargetViews views;
+  views.width_px = 800;
+  views.height_px = 600;
+  views.target.assign(4, Eigen::Vector3d::Zero());
+  views.AddFullView("a", 0, {{50, 50}, {799.5, 599.5}, {420, 310}, {-1, 5}});
+  views.AddFullView("b", 1, {{60, 40}});
+  const FrameCoverage f = views.Coverage();
+  ASSERT_EQ(f.counts.size(), 48u);
+  EXPECT_EQ(f.counts[0], 2);
+  EXPECT_EQ(f.counts[5 * 8 + 7], 1);
+  EXPECT_EQ(f.counts[3 * 8 + 4], 1);
+  int total = 0;
+  for (int n : f.counts) total += n;
+  EXPECT_EQ(total, 4);
+  EXPECT_DOUBLE_EQ(f.share, 3.0 / 48.0);
+  EXPECT_DOUBLE_EQ(f.border_share, 2.0 / 24.0);  // 8 + 8 + 4 + 4 cells along the edges
+}
+
 TEST(CameraCalibration, TooFewViewsIsOneClearError) {
   ChessboardOptions board;
   TargetViews views;
