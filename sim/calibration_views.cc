@@ -153,8 +153,7 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
   std::mt19937_64 rng(Hash(seed, 0xB0A2D, 0x5E55));
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const StereoRig& truth = rig.truth.rig;
-  const Eigen::Isometry3d right_from_left =
-      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   std::vector<BoardPlacement> session;
   for (int k = 0; k < o.placements; ++k) {
     BoardPlacement p;
@@ -180,8 +179,7 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
 std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                                                const BoardSessionOptions& o) {
   const StereoRig& truth = rig.truth.rig;
-  const Eigen::Isometry3d right_from_left =
-      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   std::vector<BoardPlacement> session = PlanBoardSession(rig, seed, o);
   for (size_t k = 0; k < session.size(); ++k) {
     BoardPlacement& p = session[k];

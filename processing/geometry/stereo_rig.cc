@@ -51,6 +51,10 @@ Eigen::Isometry3d StereoRig::SFromRightCamera() const {
   return t;
 }
 
+Eigen::Isometry3d StereoRig::RightFromLeftCamera() const {
+  return SFromRightCamera().inverse() * SFromLeftCamera();
+}
+
 StereoRig StereoRig::FromStereoCalibration(const CameraIntrinsics& left,
                                            const CameraIntrinsics& right,
                                            const Eigen::Matrix3d& right_from_left_rotation,

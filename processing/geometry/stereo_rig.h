@@ -27,6 +27,8 @@ struct StereoRig {
   // Camera-to-rig poses (rotation and projection centre in S).
   Eigen::Isometry3d SFromLeftCamera() const;
   Eigen::Isometry3d SFromRightCamera() const;
+  // The left camera's frame to the right's (OpenCV's R, T: p_right = R p_left + T).
+  Eigen::Isometry3d RightFromLeftCamera() const;
 
   // Rotation of a camera that looks along +Y_S with image x along +X_S and image y along -Z_S.
   static Eigen::Matrix3d NominalSFromCamera();

@@ -82,8 +82,7 @@ Status SaveOpenCvStereo(const Calibration& calibration, const std::string& file,
   if (!left) return Error{file + ": left camera: " + left.error()};
   const Result<OpenCvCamera> right = ToOpenCv(rig.right, &conversion->right);
   if (!right) return Error{file + ": right camera: " + right.error()};
-  const Eigen::Isometry3d right_from_left =
-      rig.SFromRightCamera().inverse() * rig.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = rig.RightFromLeftCamera();
   cv::Mat r(3, 3, CV_64F), t(3, 1, CV_64F);
   for (int i = 0; i < 3; ++i) {
     t.at<double>(i) = right_from_left.translation()[i];

@@ -66,8 +66,7 @@ TEST(ExactBoardCorners, StereoCalibrationIsAccurateWithHonestSigmas) {
     const StereoRig& truth = rig.truth.rig;
     const BoardSessionOptions options;
     const std::vector<BoardPlacement> session = PlanBoardSession(rig, seed, options);
-    const Eigen::Isometry3d right_from_left =
-        truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+    const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
     TargetViews left, right;
     for (auto [v, camera] : {std::pair{&left, &truth.left}, std::pair{&right, &truth.right}}) {
       v->target = ChessboardCorners(options.Board());

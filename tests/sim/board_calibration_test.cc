@@ -78,8 +78,7 @@ TEST_P(SimulatedBoards, StereoCalibrationRecoversTheTrueRig) {
   const Result<StereoCalibration> s = CalibrateStereo(d.left, d.right, {});
   ASSERT_TRUE(s.ok()) << s.error();
   const StereoRig& truth = rig.truth.rig;
-  const Eigen::Isometry3d right_from_left =
-      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   const Opk opk = OpkFromRotation(truth.left_from_right);
   const Eigen::Vector3d angles(DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
                                DegFromRad(opk.kappa_rad));

@@ -36,14 +36,13 @@ TEST(StereoRig, NominalCameraLooksForwardWithRowsHorizontal) {
 TEST(StereoRig, RecoversRigFromOpenCvStereoCalibration) {
   const StereoRig truth = Skewed();
   // OpenCV convention: p_right = R p_left + t.
-  const Eigen::Isometry3d right_from_left =
-      truth.SFromRightCamera().inverse() * truth.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   const StereoRig rig = StereoRig::FromStereoCalibration(
       truth.left, truth.right, right_from_left.linear(), right_from_left.translation());
   EXPECT_NEAR(rig.baseline_m, 0.5, 1e-12);
   EXPECT_TRUE(rig.left_from_right.isApprox(truth.left_from_right, 1e-12));
   // The relative pose must be reproduced exactly whatever S is chosen.
-  const Eigen::Isometry3d again = rig.SFromRightCamera().inverse() * rig.SFromLeftCamera();
+  const Eigen::Isometry3d again = rig.RightFromLeftCamera();
   EXPECT_TRUE(again.matrix().isApprox(right_from_left.matrix(), 1e-12));
   // X of S along the baseline, Y close to the viewing directions.
   const Eigen::Vector3d view = rig.S_from_left * Eigen::Vector3d::UnitZ();

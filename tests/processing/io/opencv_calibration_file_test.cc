@@ -76,8 +76,7 @@ TEST(OpenCvCalibrationFile, StereoExportProjectsAlikeInOpenCvAndReadsBack) {
   fs["R"] >> r;
   fs["T"] >> t;
   EXPECT_NEAR(cv::norm(t), 0.5, 1e-12);
-  const Eigen::Isometry3d right_from_left =
-      cal.rig.SFromRightCamera().inverse() * cal.rig.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = cal.rig.RightFromLeftCamera();
   const double left = MaxDifferencePx(cal.rig.left, Eigen::Isometry3d::Identity(), k1, d1,
                                       cv::Mat::eye(3, 3, CV_64F), cv::Mat::zeros(3, 1, CV_64F));
   const double right = MaxDifferencePx(cal.rig.right, right_from_left, k2, d2, r, t);

@@ -33,8 +33,7 @@ TEST(Rectification, MapsPointIntoTheOriginalImagesWithDistortion) {
   const StereoRig rig = testing::RealisticRig();
   const Rectification r = Rectify(rig);
   const CameraModel left(rig.left), right(rig.right);
-  const Eigen::Isometry3d right_from_left =
-      rig.SFromRightCamera().inverse() * rig.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = rig.RightFromLeftCamera();
   int checked = 0;
   for (double x : {-5.0, -1.0, 2.0, 6.0}) {
     for (double y : {-2.0, 0.5, 3.0}) {
@@ -96,8 +95,7 @@ TEST(Rectification, RectifiedImagesAlignRows) {
   const StereoRig rig = testing::RealisticRig();
   const Rectification r = Rectify(rig);
   const CameraModel left(rig.left), right(rig.right);
-  const Eigen::Isometry3d right_from_left =
-      rig.SFromRightCamera().inverse() * rig.SFromLeftCamera();
+  const Eigen::Isometry3d right_from_left = rig.RightFromLeftCamera();
   cv::Mat li(1040, 1392, CV_32FC1, cv::Scalar(0)), ri = li.clone();
   const Eigen::Vector3d p(1.0, 0.8, 30.0);
   Eigen::Vector2d lp, rp;
