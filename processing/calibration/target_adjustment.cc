@@ -168,28 +168,26 @@ void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::
       for (size_t i = 0; i < view.pixels.size(); ++i) {
         if (a->rejected[c][v][i]) continue;
         const Eigen::Vector3d& target = camera.target[view.ids[i]];
+        std::unique_ptr<ceres::CostFunction> cost;
+        std::vector<double*> blocks;
+        if (c == 0) {
+          cost = std::make_unique<ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6>>(
+              new FirstCameraResidual{target, view.pixels[i]});
+          blocks = {a->intrinsics[c].data(), pose};
+        } else {
+          cost = std::make_unique<ceres::AutoDiffCostFunction<SecondCameraResidual, 2, kN, 6, 6>>(
+              new SecondCameraResidual{target, view.pixels[i]});
+          blocks = {a->intrinsics[c].data(), a->second_from_first.data(), pose};
+        }
         // A point the current model cannot project would stop Ceres before its first step: a
         // gross error for this round, judged again after it.
         double residual[2];
-        const bool projects =
-            c == 0 ? FirstCameraResidual{target, view.pixels[i]}(a->intrinsics[c].data(), pose,
-                                                                 residual)
-                   : SecondCameraResidual{target, view.pixels[i]}(
-                         a->intrinsics[c].data(), a->second_from_first.data(), pose, residual);
-        if (!projects) {
+        if (!cost->Evaluate(blocks.data(), residual, nullptr)) {
           a->rejected[c][v][i] = 1;
           continue;
         }
         ceres::LossFunction* loss = o.huber_px > 0.0 ? new ceres::HuberLoss(o.huber_px) : nullptr;
-        if (c == 0)
-          problem->AddResidualBlock(new ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6>(
-                                        new FirstCameraResidual{target, view.pixels[i]}),
-                                    loss, a->intrinsics[c].data(), pose);
-        else
-          problem->AddResidualBlock(
-              new ceres::AutoDiffCostFunction<SecondCameraResidual, 2, kN, 6, 6>(
-                  new SecondCameraResidual{target, view.pixels[i]}),
-              loss, a->intrinsics[c].data(), a->second_from_first.data(), pose);
+        problem->AddResidualBlock(cost.release(), loss, blocks);
       }
     }
   }
