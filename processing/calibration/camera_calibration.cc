@@ -83,6 +83,7 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
     r.camera_from_target.push_back(a.CameraFromTarget(c, views.views[v].placement));
   }
   r.rms_px = std::sqrt(total / std::max(1, r.observations));
+  r.target = a.target;
   r.sigma0_px = precision.sigma0_px;
   r.iterations = precision.iterations;
   r.coverage = views.Coverage();

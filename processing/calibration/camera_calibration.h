@@ -73,7 +73,10 @@ struct CameraCalibration {
   std::vector<std::string> view_names;
   std::vector<double> view_rms_px;
   std::vector<Eigen::Isometry3d> camera_from_target;  // per view
-  int observations = 0;                               // measured points
+  // The target points as adjusted: a control field's surveyed points moved within their
+  // sigma; a board's as given.
+  std::vector<Eigen::Vector3d> target;
+  int observations = 0;  // measured points
   int rejected = 0;
   FrameCoverage coverage;
   int iterations = 0;

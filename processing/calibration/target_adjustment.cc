@@ -16,6 +16,8 @@ namespace ts {
 namespace {
 
 constexpr int kN = kIntrinsicCount;
+// Re-weighings of the survey against the images, at most (they settle in two or three).
+constexpr int kMaxWeightRounds = 8;
 
 template <typename T>
 void Transform(const T* pose, const T* in, T* out) {
@@ -25,11 +27,9 @@ void Transform(const T* pose, const T* in, T* out) {
 
 // The first camera sees the target point through the placement's pose.
 struct FirstCameraResidual {
-  Eigen::Vector3d target;
   Eigen::Vector2d pixel;
   template <typename T>
-  bool operator()(const T* intrinsics, const T* pose, T* residual) const {
-    const T point[3] = {T(target.x()), T(target.y()), T(target.z())};
+  bool operator()(const T* intrinsics, const T* pose, const T* point, T* residual) const {
     T p[3];
     Transform(pose, point, p);
     return MeasuredResidual(intrinsics, p, pixel, residual);
@@ -38,15 +38,26 @@ struct FirstCameraResidual {
 
 // The second camera through the placement's pose and the relative orientation.
 struct SecondCameraResidual {
-  Eigen::Vector3d target;
   Eigen::Vector2d pixel;
   template <typename T>
-  bool operator()(const T* intrinsics, const T* relative, const T* pose, T* residual) const {
-    const T point[3] = {T(target.x()), T(target.y()), T(target.z())};
+  bool operator()(const T* intrinsics, const T* relative, const T* pose, const T* point,
+                  T* residual) const {
     T first[3], p[3];
     Transform(pose, point, first);
     Transform(relative, first, p);
     return MeasuredResidual(intrinsics, p, pixel, residual);
+  }
+};
+
+// A surveyed target point as an observation of its own: its sigma in the target's unit, the
+// residual scaled to image pixels so that it weighs against the image observations.
+struct SurveyedPointResidual {
+  Eigen::Vector3d surveyed;
+  double weight;  // image sigma / survey sigma
+  template <typename T>
+  bool operator()(const T* point, T* residual) const {
+    for (int j = 0; j < 3; ++j) residual[j] = weight * (point[j] - surveyed[j]);
+    return true;
   }
 };
 
@@ -159,6 +170,43 @@ void EnsureRejectionFlags(TargetAdjustment* a) {
   }
 }
 
+// Target points whose survey leaves them free to move, observed (and not rejected) in some
+// view.
+std::vector<char> AdjustedPoints(const TargetAdjustment& a) {
+  const TargetViews& first = a.cameras[0];
+  std::vector<char> adjusted(a.target.size(), 0);
+  if (a.image_sigma_px <= 0.0) return adjusted;
+  for (size_t c = 0; c < a.cameras.size(); ++c)
+    for (size_t v = 0; v < a.cameras[c].views.size(); ++v) {
+      const TargetView& view = a.cameras[c].views[v];
+      for (size_t i = 0; i < view.ids.size(); ++i) {
+        const int id = view.ids[i];
+        const bool rejected = c < a.rejected.size() && v < a.rejected[c].size() &&
+                              i < a.rejected[c][v].size() && a.rejected[c][v][i];
+        if (!rejected && static_cast<size_t>(id) < first.target_sigma.size() &&
+            first.target_sigma[id] > 0.0)
+          adjusted[id] = 1;
+      }
+    }
+  return adjusted;
+}
+
+void AddSurveyedPoints(TargetAdjustment* a, ceres::Problem* problem) {
+  const std::vector<char> adjusted = AdjustedPoints(*a);
+  const TargetViews& first = a->cameras[0];
+  for (size_t id = 0; id < a->target.size(); ++id) {
+    if (!problem->HasParameterBlock(a->target[id].data())) continue;
+    if (!adjusted[id]) {
+      problem->SetParameterBlockConstant(a->target[id].data());
+      continue;
+    }
+    problem->AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SurveyedPointResidual, 3, 3>(new SurveyedPointResidual{
+            first.target[id], a->image_sigma_px / first.target_sigma[id]}),
+        nullptr, a->target[id].data());
+  }
+}
+
 void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::Problem* problem) {
   for (size_t c = 0; c < a->cameras.size(); ++c) {
     const TargetViews& camera = a->cameras[c];
@@ -167,17 +215,18 @@ void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::
       double* pose = a->first_from_target.at(view.placement).data();
       for (size_t i = 0; i < view.pixels.size(); ++i) {
         if (a->rejected[c][v][i]) continue;
-        const Eigen::Vector3d& target = camera.target[view.ids[i]];
+        double* point = a->target[view.ids[i]].data();
         std::unique_ptr<ceres::CostFunction> cost;
         std::vector<double*> blocks;
         if (c == 0) {
-          cost = std::make_unique<ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6>>(
-              new FirstCameraResidual{target, view.pixels[i]});
-          blocks = {a->intrinsics[c].data(), pose};
+          cost = std::make_unique<ceres::AutoDiffCostFunction<FirstCameraResidual, 2, kN, 6, 3>>(
+              new FirstCameraResidual{view.pixels[i]});
+          blocks = {a->intrinsics[c].data(), pose, point};
         } else {
-          cost = std::make_unique<ceres::AutoDiffCostFunction<SecondCameraResidual, 2, kN, 6, 6>>(
-              new SecondCameraResidual{target, view.pixels[i]});
-          blocks = {a->intrinsics[c].data(), a->second_from_first.data(), pose};
+          cost =
+              std::make_unique<ceres::AutoDiffCostFunction<SecondCameraResidual, 2, kN, 6, 6, 3>>(
+                  new SecondCameraResidual{view.pixels[i]});
+          blocks = {a->intrinsics[c].data(), a->second_from_first.data(), pose, point};
         }
         // A point the current model cannot project would stop Ceres before its first step: a
         // gross error for this round, judged again after it.
@@ -191,6 +240,7 @@ void AddResiduals(TargetAdjustment* a, const TargetAdjustmentOptions& o, ceres::
       }
     }
   }
+  AddSurveyedPoints(a, problem);
   for (size_t c = 0; c < a->cameras.size(); ++c) {
     std::vector<int> fixed;
     for (int j = 0; j < kN; ++j)
@@ -242,8 +292,16 @@ int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool ma
     for (size_t v = 0; v < residuals[c].size(); ++v)
       for (size_t i = 0; i < residuals[c][v].size(); ++i, ++all)
         if (!a->rejected[c][v][i]) sum += residuals[c][v][i].squaredNorm(), ++inliers;
+  const std::vector<char> adjusted = AdjustedPoints(*a);
+  const TargetViews& first = a->cameras[0];
+  for (size_t id = 0; id < adjusted.size(); ++id)
+    if (adjusted[id])
+      sum += (a->image_sigma_px / first.target_sigma[id] * (a->target[id] - first.target[id]))
+                 .squaredNorm();
   precision->observations = all;
-  precision->redundancy = 2 * inliers - a->FreeParameters();
+  // Each adjusted point brings three unknowns and its three surveyed coordinates.
+  precision->redundancy = 2 * inliers - a->FreeParameters() +
+                          3 * static_cast<int>(std::count(adjusted.begin(), adjusted.end(), 1));
   precision->sigma0_px = std::sqrt(sum / std::max(1, precision->redundancy));
   precision->rejected = all - inliers;
   precision->rejection_k =
@@ -290,6 +348,44 @@ bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
   return true;
 }
 
+// The sigma of an image coordinate as the images' variance component (Foerstner 1979): their
+// squared residuals over their share of the redundancy, which is the whole redundancy less the
+// surveyed points' share, sum over points of w^2 trace(Q_point) (w: a point's weight, Q: its
+// cofactor block). 0 when no point is surveyed, or the share is not known.
+double ImageSigmaComponent(TargetAdjustment* a, ceres::Problem* problem,
+                           const AdjustmentPrecision& precision) {
+  std::vector<char> adjusted = AdjustedPoints(*a);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (size_t id = 0; id < adjusted.size(); ++id)
+    if (adjusted[id] && problem->HasParameterBlock(a->target[id].data()))
+      blocks.emplace_back(a->target[id].data(), a->target[id].data());
+    else
+      adjusted[id] = 0;
+  if (blocks.empty()) return 0.0;
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::SPARSE_QR;
+  ceres::Covariance covariance(options);
+  if (!covariance.Compute(blocks, problem)) return 0.0;
+  const TargetViews& first = a->cameras[0];
+  double survey_share = 0.0;
+  for (size_t id = 0; id < adjusted.size(); ++id) {
+    if (!adjusted[id]) continue;
+    Eigen::Matrix3d q;
+    if (!covariance.GetCovarianceBlock(a->target[id].data(), a->target[id].data(), q.data()))
+      return 0.0;
+    const double w = a->image_sigma_px / first.target_sigma[id];
+    survey_share += w * w * q.trace();
+  }
+  const auto residuals = TargetResiduals(*a);
+  double sum = 0.0;
+  for (size_t c = 0; c < residuals.size(); ++c)
+    for (size_t v = 0; v < residuals[c].size(); ++v)
+      for (size_t i = 0; i < residuals[c][v].size(); ++i)
+        if (!a->rejected[c][v][i]) sum += residuals[c][v][i].squaredNorm();
+  const double image_share = precision.redundancy - survey_share;
+  return image_share > 0.0 ? std::sqrt(sum / image_share) : 0.0;
+}
+
 }  // namespace
 
 Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
@@ -316,7 +412,9 @@ CameraIntrinsics TargetAdjustment::Intrinsics(int camera) const {
 }
 
 int TargetAdjustment::FreeParameters() const {
-  int n = 6 * static_cast<int>(first_from_target.size()) + (cameras.size() == 2 ? 6 : 0);
+  const std::vector<char> adjusted = AdjustedPoints(*this);
+  int n = 6 * static_cast<int>(first_from_target.size()) + (cameras.size() == 2 ? 6 : 0) +
+          3 * static_cast<int>(std::count(adjusted.begin(), adjusted.end(), 1));
   for (const auto& f : fixed) n += static_cast<int>(std::count(f.begin(), f.end(), false));
   return n;
 }
@@ -324,6 +422,10 @@ int TargetAdjustment::FreeParameters() const {
 Status InitialiseTargetAdjustment(TargetAdjustment* a,
                                   const std::vector<const CameraIntrinsics*>& given) {
   if (a->cameras.empty() || a->cameras.size() > 2) return Error{"one or two cameras are needed"};
+  if (a->cameras.size() == 2 && a->cameras[1].target != a->cameras[0].target)
+    return Error{"the two cameras must see one target"};
+  a->target = a->cameras[0].target;
+  a->image_sigma_px = a->cameras[0].pixel_sigma_px;
   a->intrinsics.resize(a->cameras.size());
   a->fixed.resize(a->cameras.size());
   std::vector<std::map<int, Eigen::Isometry3d>> poses(a->cameras.size());
@@ -365,10 +467,16 @@ Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* a,
     ceres::Problem problem;
     AddResiduals(a, o, &problem);
     if (Status s = Solve(&problem, o, &precision.iterations); !s) return Error{s.error()};
-    if (JudgeOutliers(a, o, round < o.max_rejection_rounds, &precision) == 0) {
-      precision.determined = EstimateCovariance(a, &problem, &precision);
-      return precision;
+    if (JudgeOutliers(a, o, round < o.max_rejection_rounds, &precision) != 0) continue;
+    // The images' sigma weighs the survey: estimated again until it stands.
+    const double image_sigma = ImageSigmaComponent(a, &problem, precision);
+    const bool settled = image_sigma <= 0.0 || std::abs(image_sigma / a->image_sigma_px - 1) < 0.02;
+    if (!settled && round < kMaxWeightRounds) {
+      a->image_sigma_px = image_sigma;
+      continue;
     }
+    precision.determined = EstimateCovariance(a, &problem, &precision);
+    return precision;
   }
 }
 
@@ -381,7 +489,7 @@ std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(const Tar
       std::vector<Eigen::Vector2d>& out = residuals[c].emplace_back();
       for (size_t i = 0; i < view.pixels.size(); ++i) {
         Eigen::Vector2d projected;
-        const bool ok = model.Project(pose * a.cameras[c].target[view.ids[i]], &projected);
+        const bool ok = model.Project(pose * a.target[view.ids[i]], &projected);
         // A point the model cannot project counts as a gross error, not as a perfect fit.
         out.push_back(ok ? Eigen::Vector2d(view.pixels[i] - projected) : Eigen::Vector2d(1e3, 1e3));
       }

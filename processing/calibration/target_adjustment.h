@@ -6,6 +6,11 @@
 // orientation (seed 003 eq. 2) over every placement both saw: a joint adjustment, not two
 // calibrations glued together.
 //
+// A control field's points are surveyed, not exact: each is adjusted with its surveyed
+// coordinates as observations of their sigma, weighed against the images by the images' sigma
+// estimated as a variance component (Foerstner), so that the survey's errors reach the sigmas
+// of the cameras instead of bending them unseen.
+//
 // After the solve: observations off by more than k sigma0 are rejected and the adjustment is
 // repeated; sigma0 a posteriori from the inliers' residuals and the redundancy; the
 // covariance of the intrinsics and of the relative orientation (ceres::Covariance) scaled by
@@ -57,6 +62,11 @@ using Pose6 = std::array<double, 6>;  // angle-axis, translation: to = R from + 
 // The unknowns and what they are adjusted to.
 struct TargetAdjustment {
   std::vector<TargetViews> cameras;  // one or two, sharing one target
+  // The target points as adjusted: the surveyed ones (TargetViews::target_sigma) move within
+  // their sigma, weighed against image observations of sigma image_sigma_px (0: every point
+  // held as given).
+  std::vector<Eigen::Vector3d> target;
+  double image_sigma_px = 0.0;
   std::vector<IntrinsicVector> intrinsics;
   std::vector<std::array<bool, kIntrinsicCount>> fixed;
   std::map<int, Pose6> first_from_target;                // per placement, in the first camera

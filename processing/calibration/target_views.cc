@@ -52,6 +52,11 @@ Status TargetViews::Check() const {
   if (width_px <= 0 || height_px <= 0) return Error{"the image size is not known"};
   for (const Eigen::Vector3d& p : target)
     if (!p.allFinite()) return Error{"a target point is not finite"};
+  if (!target_sigma.empty() && target_sigma.size() != target.size())
+    return Error{"one sigma per target point is needed"};
+  for (double sigma : target_sigma)
+    if (!(sigma >= 0.0 && std::isfinite(sigma)))
+      return Error{"a target point's sigma is not a finite, non-negative number"};
   for (const TargetView& v : views) {
     if (v.ids.size() != v.pixels.size())
       return Error{"view " + v.name + ": one target id per pixel is needed"};

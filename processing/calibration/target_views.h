@@ -33,6 +33,13 @@ struct TargetViews {
   int width_px = 0;
   int height_px = 0;
   std::vector<Eigen::Vector3d> target;
+  // Per target point, the sigma of its surveyed coordinates (a control field's, in the
+  // target's unit): the adjustment moves it as far as that allows. Empty, or 0: exact (a
+  // printed board).
+  std::vector<double> target_sigma;
+  // A priori sigma of a measured pixel (a control field's targets: their matching's), which
+  // weighs the surveyed coordinates against the images.
+  double pixel_sigma_px = 0.0;
   std::vector<TargetView> views;
 
   // A view of the whole target, in the order of `target`.
@@ -42,7 +49,7 @@ struct TargetViews {
   // Every target point at z = 0 (a board), which Zhang's closed form needs.
   bool Planar() const;
   FrameCoverage Coverage() const;
-  // Ids within the target, finite pixels, a size, a name per view.
+  // Ids within the target, finite pixels and sigmas, a size, a name per view.
   Status Check() const;
 };
 
