@@ -30,6 +30,15 @@ YAML::Node YamlMap::Get(const std::string& key) {
 
 YamlMap YamlMap::Map(const std::string& key) { return YamlMap(Get(key), PathOf(key)); }
 
+std::vector<YamlMap> YamlMap::Maps(const std::string& key) {
+  const YAML::Node list = Get(key);
+  if (!list.IsSequence()) Fail(key, "must be a list");
+  std::vector<YamlMap> maps;
+  for (size_t i = 0; i < list.size(); ++i)
+    maps.emplace_back(list[i], PathOf(key) + "[" + std::to_string(i) + "]");
+  return maps;
+}
+
 double YamlMap::Double(const std::string& key) {
   const YAML::Node v = Get(key);
   double d = 0.0;

@@ -38,6 +38,8 @@ class YamlMap {
   // Fixed-length list of finite numbers.
   std::vector<double> Doubles(const std::string& key, size_t count);
   Eigen::Vector3d Vector3(const std::string& key, const Eigen::Vector3d& fallback);
+  // A list of mappings, each with the path "key[i]".
+  std::vector<YamlMap> Maps(const std::string& key);
 
   // Throws naming the first key that no accessor asked for.
   void RejectUnknownKeys() const;
