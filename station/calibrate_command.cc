@@ -1,5 +1,6 @@
 // topostation calibrate camera | stereo: a camera's interior orientation, or both cameras' and
-// their relative orientation in one adjustment, from chessboard views (issue 20).
+// their relative orientation in one adjustment, from chessboard views or at a control field
+// (issue 20).
 #include <glob.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "core/log.h"
 #include "processing/calibration/camera_calibration.h"
 #include "processing/calibration/chessboard.h"
+#include "processing/calibration/field_calibration.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/opencv_calibration_file.h"
@@ -28,8 +30,13 @@ struct CalibrateArgs {
   ChessboardOptions board;
   CameraCalibrationOptions options;
   std::string stage_from;
+  // A control field instead of a board: the field, the hand marks, the design calibration.
+  std::string control_field, marks, start;
+  std::string side = "left";  // calibrate camera: which design camera starts it
+  FieldCalibrationOptions field;
   std::string out;
   bool json = false;
+  bool AtField() const { return !control_field.empty(); }
 };
 
 std::vector<std::string> ExpandGlob(const std::string& flag, const std::string& pattern) {
@@ -74,6 +81,68 @@ TargetViews DetectBoards(const std::vector<std::string>& files, const Chessboard
     }
   }
   return views;
+}
+
+// A field session's inputs: the field, the marks, the design calibration, each image with
+// its marks.
+struct FieldInputs {
+  ControlField field;
+  FieldViews views;
+};
+
+std::vector<FieldImage> LoadFieldImages(const std::vector<std::string>& files,
+                                        const std::vector<ImageMarks>& marks) {
+  std::vector<FieldImage> images;
+  for (const std::string& file : files) {
+    const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
+    if (grey.empty()) throw CommandError(file + ": not a readable image");
+    FieldImage image{file, {}, {}};
+    grey.convertTo(image.image, CV_32FC1, 1.0 / 255.0);
+    if (const ImageMarks* m = MarksOfImage(marks, file)) image.marks = m->marks;
+    images.push_back(std::move(image));
+  }
+  return images;
+}
+
+FieldInputs LoadFieldInputs(const CalibrateArgs& args,
+                            const std::vector<std::vector<std::string>>& files,
+                            const std::vector<Side>& sides) {
+  if (args.marks.empty() || args.start.empty())
+    throw CommandError(
+        "--control-field: give --marks (targets measured by hand) and --start "
+        "(the rig's design calibration)");
+  Result<ControlField> field = LoadControlField(args.control_field);
+  if (!field) throw CommandError(field.error());
+  const Result<std::vector<ImageMarks>> marks = LoadTargetMarks(args.marks);
+  if (!marks) throw CommandError(marks.error());
+  const Result<Calibration> start = LoadCalibrationYaml(args.start);
+  if (!start) throw CommandError("--start: " + start.error());
+  FieldInputs in{*field, {}};
+  for (size_t c = 0; c < files.size(); ++c) {
+    in.views.images.push_back(LoadFieldImages(files[c], *marks));
+    in.views.start.push_back(sides[c] == Side::kLeft ? start->rig.left : start->rig.right);
+    const CameraIntrinsics& camera = in.views.start.back();
+    for (const FieldImage& image : in.views.images.back())
+      if (image.image.cols != camera.width_px || image.image.rows != camera.height_px)
+        throw CommandError(image.name + ": " + std::to_string(image.image.cols) + "x" +
+                           std::to_string(image.image.rows) + " pixels, the design camera (" +
+                           args.start + ") has " + std::to_string(camera.width_px) + "x" +
+                           std::to_string(camera.height_px));
+  }
+  in.views.second_from_first = start->rig.RightFromLeftCamera();
+  return in;
+}
+
+void PrintFieldReport(const FieldReport& report) {
+  std::printf("control field: %d targets found, matching sigma %.3f px (median)\n",
+              report.targets_found, report.target_sigma_px);
+  for (const std::string& w : report.warnings) std::printf("warning: %s\n", w.c_str());
+}
+
+nlohmann::json FieldJson(const FieldReport& report) {
+  return {{"targets_found", report.targets_found},
+          {"target_sigma_px", report.target_sigma_px},
+          {"warnings", report.warnings}};
 }
 
 nlohmann::json CameraJson(const CameraCalibration& c) {
@@ -128,24 +197,42 @@ void PrintCamera(const char* name, const CameraCalibration& c) {
   for (const std::string& w : c.warnings) std::printf("warning: %s: %s\n", name, w.c_str());
 }
 
+Result<CameraCalibration> CalibrateCameraFromBoards(const CalibrateArgs& args,
+                                                    const std::vector<std::string>& files,
+                                                    std::vector<std::string>* skipped) {
+  const TargetViews views = DetectBoards(files, args.board, skipped);
+  Result<CameraCalibration> c = CalibrateCamera(views, args.options);
+  if (!c)
+    return Error{c.error() + " (" + std::to_string(views.views.size()) + " of " +
+                 std::to_string(files.size()) + " images show the board)"};
+  return c;
+}
+
 void RunCalibrateCamera(CalibrateArgs args) {
   ParseBoard(&args);
   const std::vector<std::string> files = ExpandGlob("--images", args.images);
   std::vector<std::string> skipped;
-  const TargetViews views = DetectBoards(files, args.board, &skipped);
-  const Result<CameraCalibration> c = CalibrateCamera(views, args.options);
-  if (!c)
-    throw CommandError(c.error() + " (" + std::to_string(views.views.size()) + " of " +
-                       std::to_string(files.size()) + " images show the board)");
+  FieldReport field;
+  Result<CameraCalibration> c = Error{""};
+  if (args.AtField()) {
+    const FieldInputs in =
+        LoadFieldInputs(args, {files}, {args.side == "right" ? Side::kRight : Side::kLeft});
+    c = CalibrateCameraAtField(in.field, in.views, args.options, args.field, &field);
+  } else {
+    c = CalibrateCameraFromBoards(args, files, &skipped);
+  }
+  if (!c) throw CommandError(c.error());
   const std::string yaml = CameraCalibrationToYaml(c->intrinsics, PrecisionOf(*c));
   if (Status s = WriteFileAtomically(args.out, yaml); !s) throw CommandError(s.error());
   if (args.json) {
     nlohmann::json j = CameraJson(*c);
     j["views_skipped"] = skipped;
+    if (args.AtField()) j["control_field"] = FieldJson(field);
     j["out"] = args.out;
     std::printf("%s\n", j.dump().c_str());
     return;
   }
+  if (args.AtField()) PrintFieldReport(field);
   PrintCamera("camera", *c);
   std::printf("written %s\n", args.out.c_str());
 }
@@ -186,12 +273,21 @@ void RunCalibrateStereo(CalibrateArgs args) {
                        std::to_string(left_files.size()) +
                        ": the views are paired in sorted order");
   std::vector<std::string> skipped;
-  const TargetViews left = DetectBoards(left_files, args.board, &skipped);
-  const TargetViews right = DetectBoards(right_files, args.board, &skipped);
-  const Result<StereoCalibration> s = CalibrateStereo(left, right, args.options);
-  if (!s)
-    throw CommandError(s.error() + " (the board found in " + std::to_string(left.views.size()) +
-                       " left and " + std::to_string(right.views.size()) + " right images)");
+  FieldReport field;
+  Result<StereoCalibration> s = Error{""};
+  if (args.AtField()) {
+    const FieldInputs in =
+        LoadFieldInputs(args, {left_files, right_files}, {Side::kLeft, Side::kRight});
+    s = CalibrateStereoAtField(in.field, in.views, args.options, args.field, &field);
+  } else {
+    const TargetViews left = DetectBoards(left_files, args.board, &skipped);
+    const TargetViews right = DetectBoards(right_files, args.board, &skipped);
+    s = CalibrateStereo(left, right, args.options);
+    if (!s)
+      s = Error{s.error() + " (the board found in " + std::to_string(left.views.size()) +
+                " left and " + std::to_string(right.views.size()) + " right images)"};
+  }
+  if (!s) throw CommandError(s.error());
   const Calibration cal = CalibrationOf(*s, previous);
   std::string why;
   if (!cal.Check(&why)) throw CommandError("the stereo calibration is not a valid rig: " + why);
@@ -207,12 +303,14 @@ void RunCalibrateStereo(CalibrateArgs args) {
          {s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z()}},
         {"observations", s->observations},
         {"rejected", s->rejected}};
-    const nlohmann::json j = {
+    nlohmann::json j = {
         {"left", CameraJson(s->left)}, {"right", CameraJson(s->right)}, {"stereo", stereo},
         {"views_skipped", skipped},    {"warnings", s->warnings},       {"out", args.out}};
+    if (args.AtField()) j["control_field"] = FieldJson(field);
     std::printf("%s\n", j.dump().c_str());
     return;
   }
+  if (args.AtField()) PrintFieldReport(field);
   PrintCamera("left", s->left);
   PrintCamera("right", s->right);
   std::printf(
@@ -299,9 +397,19 @@ void AddOpenCvCommands(CLI::App* calibrate) {
 }
 
 void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
-  cmd->add_option("--chessboard", args->board_size,
-                  "inner corners COLUMNSxROWS (default " + args->board_size + ")");
+  CLI::Option* board =
+      cmd->add_option("--chessboard", args->board_size,
+                      "inner corners COLUMNSxROWS (default " + args->board_size + ")");
   AddDeclaredOption(cmd, "--square", args->board, "square");
+  cmd->add_option("--control-field", args->control_field,
+                  "calibrate at a control field instead: its targets (FIELD.yaml)")
+      ->excludes(board);
+  cmd->add_option("--marks", args->marks,
+                  "with --control-field: targets measured by hand (MARKS.yaml), 4 or more in "
+                  "each stage pose's left or right image");
+  cmd->add_option("--start", args->start,
+                  "with --control-field: the rig's design calibration (calibration.yaml)");
+  AddDeclaredOption(cmd, "--search-px", args->field, "first_search_px");
   AddDeclaredOption(cmd, "--fix-principal-point", args->options, "fix_principal_point");
   AddDeclaredOption(cmd, "--fix-k3", args->options, "fix_k3");
   AddDeclaredOption(cmd, "--fix-tangential", args->options, "fix_tangential");
@@ -325,6 +433,10 @@ void AddCalibrateCommand(CLI::App& app) {
   camera->add_option("--images", camera_args->images, "the views, a glob ('cal/left*.png')")
       ->required();
   AddAdjustmentFlags(camera, camera_args.get());
+  camera
+      ->add_option("--side", camera_args->side,
+                   "with --control-field: the design camera to start from")
+      ->check(CLI::IsMember({"left", "right"}));
   camera->add_option("--out", camera_args->out, "camera calibration file (YAML) to write")
       ->required();
   camera->callback([camera_args] { RunCalibrateCamera(*camera_args); });

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "sim/calibration_field.h"
 #include "sim/calibration_views.h"
 #include "sim/faults.h"
 #include "sim/sim_server.h"
@@ -41,24 +42,29 @@ struct RenderArgs {
   sim::StationRenderOptions render;
   bool mono16 = false;
   bool single_row = false;
-  std::string calibration;  // a calibration session instead of a station: "chessboard"
+  std::string calibration;  // a calibration session instead of a station: chessboard | field
   sim::BoardSessionOptions board;
+  sim::FieldSessionOptions field;
 };
 
-// Chessboard views of the station's true rig (the same rig as `sim render` of this seed).
+// Calibration views of the station's true rig (the same rig as `sim render` of this seed):
+// chessboard placements, or stage poses at a control field.
 void RunRenderCalibration(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto station = Build(args.scene);
-  const sim::BoardSessionOptions& options = args.board;
-  const Status s = sim::WriteBoardSession(station->rig, station->scene.seed, options, args.out,
-                                          args.scene.truth_dir);
+  const uint64_t seed = station->scene.seed;
+  const bool board = args.calibration == "chessboard";
+  const Status s =
+      board
+          ? sim::WriteBoardSession(station->rig, seed, args.board, args.out, args.scene.truth_dir)
+          : sim::WriteFieldSession(station->rig, seed, args.field, args.out, args.scene.truth_dir);
   if (!s) throw CommandError(s.error());
-  std::printf(
-      "calibration session %s (%d chessboard placements, seed %llu) rendered in %.1f s; "
-      "truth in %s\n",
-      args.out.c_str(), options.placements, static_cast<unsigned long long>(station->scene.seed),
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-      args.scene.truth_dir.c_str());
+  const int views = board ? args.board.placements : args.field.pans * args.field.tilts;
+  std::printf("calibration session %s (%d %s, seed %llu) rendered in %.1f s; truth in %s\n",
+              args.out.c_str(), views, board ? "chessboard placements" : "stage poses at a field",
+              static_cast<unsigned long long>(seed),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+              args.scene.truth_dir.c_str());
 }
 
 void RunRender(const RenderArgs& args) {
@@ -138,13 +144,17 @@ void AddSimCommand(CLI::App& app) {
               "no poses higher up where the terrain goes on above a view");
   AddDeclaredOption(r, "--range", render->render, "write_range_images");
   r->add_option("--calibration", render->calibration,
-                "render a calibration session of the rig instead of a station: chessboard "
-                "(left/ and right/ images, session.json; the true calibration in --truth)")
-      ->check(CLI::IsMember({"chessboard"}));
+                "render a calibration session of the rig instead of a station: chessboard, or "
+                "field (a control field: field.yaml, marks.yaml, design.yaml); left/ and right/ "
+                "images, session.json; the true calibration in --truth")
+      ->check(CLI::IsMember({"chessboard", "field"}));
   AddDeclaredOption(r, "--placements", render->board, "placements");
   AddDeclaredOption(r, "--board-columns", render->board, "columns");
   AddDeclaredOption(r, "--board-rows", render->board, "rows");
   AddDeclaredOption(r, "--square-m", render->board, "square_m");
+  AddDeclaredOption(r, "--field-targets", render->field, "targets");
+  AddDeclaredOption(r, "--field-pans", render->field, "pans");
+  AddDeclaredOption(r, "--field-tilts", render->field, "tilts");
   r->callback([render] { RunRender(*render); });
 
   auto serve = std::make_shared<ServeArgs>();

@@ -10,8 +10,8 @@
 #include <random>
 
 #include "processing/calibration/camera_calibration.h"
-#include "processing/geometry/rotation.h"
 #include "sim/calibration_views.h"
+#include "tests/common/calibration_errors.h"
 
 namespace ts::sim {
 namespace {
@@ -34,24 +34,6 @@ void AddProjectedView(const CameraIntrinsics& camera, const Eigen::Isometry3d& c
   if (view.ids.size() >= 8) views->views.push_back(std::move(view));
 }
 
-struct Errors {
-  std::vector<double> values, sigmas;
-  void Add(double error, double sigma) {
-    values.push_back(error);
-    sigmas.push_back(sigma);
-  }
-  double MaxAbs() const {
-    double m = 0.0;
-    for (double v : values) m = std::max(m, std::abs(v));
-    return m;
-  }
-  double NormalisedRms() const {
-    double s = 0.0;
-    for (size_t k = 0; k < values.size(); ++k) s += std::pow(values[k] / sigmas[k], 2);
-    return std::sqrt(s / values.size());
-  }
-};
-
 // A session as a field team should take it (the default BoardSessionOptions: 40 placements of
 // a 16 x 11 board, tilted up to 50 deg, 2-4 m away) with the detector's noise on rendered
 // boards (0.03-0.08 px). Measured on seeds 1-10: principal distance within 0.016 %, baseline
@@ -60,7 +42,7 @@ struct Errors {
 // point is 0.94 correlated with decentring), not a bias.
 TEST(ExactBoardCorners, StereoCalibrationIsAccurateWithHonestSigmas) {
   constexpr double kNoisePx = 0.05;
-  Errors c_rel, pp, baseline, angles;
+  StereoErrors errors;
   for (int seed = 1; seed <= 10; ++seed) {
     const SimRig rig = MakeSimRig(seed, 1.5);
     const StereoRig& truth = rig.truth.rig;
@@ -86,21 +68,9 @@ TEST(ExactBoardCorners, StereoCalibrationIsAccurateWithHonestSigmas) {
     calibration.corner_sigma_px = kNoisePx;
     const Result<StereoCalibration> s = CalibrateStereo(left, right, calibration);
     ASSERT_TRUE(s.ok()) << s.error();
-    const Opk opk = OpkFromRotation(truth.left_from_right);
-    const Eigen::Vector3d true_angles(DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
-                                      DegFromRad(opk.kappa_rad));
-    for (const auto& [est, tru] :
-         {std::pair{&s->left, &truth.left}, std::pair{&s->right, &truth.right}}) {
-      const CameraIntrinsics& e = est->intrinsics;
-      c_rel.Add(e.principal_distance_px / tru->principal_distance_px - 1.0,
-                est->sigma[0] / tru->principal_distance_px);
-      pp.Add(e.principal_point_x_px - tru->principal_point_x_px, est->sigma[1]);
-      pp.Add(e.principal_point_y_px - tru->principal_point_y_px, est->sigma[2]);
-    }
-    baseline.Add(s->baseline - right_from_left.translation().norm(), s->baseline_sigma);
-    for (int j = 0; j < 3; ++j)
-      angles.Add(s->angles_deg[j] - true_angles[j], s->angles_sigma_deg[j]);
+    errors.Add(*s, truth);
   }
+  const auto& [c_rel, pp, baseline, angles, distortion] = errors;
   std::printf(
       "largest error (RMS error/sigma): c %.4f %% (%.2f), pp %.3f px (%.2f), baseline %.4f mm "
       "(%.2f), angles %.4f deg (%.2f)\n",
@@ -110,7 +80,7 @@ TEST(ExactBoardCorners, StereoCalibrationIsAccurateWithHonestSigmas) {
   EXPECT_LT(baseline.MaxAbs(), 2e-4);
   EXPECT_LT(pp.MaxAbs(), 1.0);
   EXPECT_LT(angles.MaxAbs(), 0.02);
-  for (const Errors* e : {&c_rel, &pp, &baseline, &angles}) {
+  for (const CalibrationErrors* e : {&c_rel, &pp, &baseline, &angles}) {
     EXPECT_GT(e->NormalisedRms(), 0.7);
     EXPECT_LT(e->NormalisedRms(), 1.5);
   }

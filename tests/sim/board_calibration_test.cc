@@ -13,6 +13,7 @@
 #include "processing/calibration/camera_calibration.h"
 #include "processing/geometry/rotation.h"
 #include "sim/calibration_views.h"
+#include "tests/common/calibration_errors.h"
 
 namespace ts::sim {
 namespace {
@@ -44,22 +45,6 @@ Detected Detect(const std::vector<BoardPlacement>& session, const ChessboardOpti
     (k % 2 ? d.right : d.left).AddFullView(session[placement].name, placement, *found[k]);
   }
   return d;
-}
-
-// The largest difference of the distortion corrections d(r) over the frame, at the same r.
-double DistortionDifferencePx(const CameraIntrinsics& a, const CameraIntrinsics& b) {
-  const auto pa = a.ToParameters(), pb = b.ToParameters();
-  double worst = 0.0;
-  for (int j = 0; j <= 20; ++j)
-    for (int i = 0; i <= 20; ++i) {
-      const double rx = a.width_px * i / 20.0 - a.principal_point_x_px;
-      const double ry = a.height_px * j / 20.0 - a.principal_point_y_px;
-      double ax, ay, bx, by;
-      DistortionCorrection(pa.data(), rx, ry, &ax, &ay);
-      DistortionCorrection(pb.data(), rx, ry, &bx, &by);
-      worst = std::max(worst, std::hypot(ax - bx, ay - by));
-    }
-  return worst;
 }
 
 class SimulatedBoards : public ::testing::TestWithParam<int> {};

@@ -76,6 +76,49 @@ TEST(CalibrateCommand, SimulatedChessboardSessionGivesTheTrueRig) {
   EXPECT_TRUE(written->stereo_precision.known);
 }
 
+// A control field session of the simulated rig (seed 003's calibration range): hand marks in
+// the left images only, the rest found; the rig within four sigmas of the truth, one camera too.
+TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRig) {
+  testing::TempDir dir;
+  const std::string views = dir / "field", truth = dir / "truth", out = dir / "cal.yaml";
+  const auto render = RunCommand(kExe + " sim render --calibration field --seed 4 --field-pans 5 " +
+                                 "--out " + views + " --truth " + truth + " 2>&1");
+  ASSERT_EQ(render.exit_code, 0) << render.out;
+  const std::string field = " --control-field " + views + "/field.yaml --marks " + views +
+                            "/marks.yaml --start " + views + "/design.yaml";
+  const auto r =
+      RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' --right '" + views +
+                 "/right/*.png'" + field + " --out " + out + " --json 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const Result<Calibration> true_rig = LoadCalibrationYaml(truth + "/calibration.yaml");
+  ASSERT_TRUE(true_rig.ok()) << true_rig.error();
+  for (const auto& [side, camera] :
+       {std::pair{"left", true_rig->rig.left}, std::pair{"right", true_rig->rig.right}}) {
+    const auto& c = j[side];
+    EXPECT_NEAR(c["fy"].get<double>(), camera.principal_distance_px,
+                4 * c["sigma"]["c"].get<double>());
+    EXPECT_NEAR(c["cx"].get<double>(), camera.principal_point_x_px,
+                4 * c["sigma"]["xp"].get<double>());
+    EXPECT_NEAR(c["cy"].get<double>(), camera.principal_point_y_px,
+                4 * c["sigma"]["yp"].get<double>());
+    EXPECT_LT(c["rms_px"].get<double>(), 0.05) << side;
+  }
+  EXPECT_NEAR(j["stereo"]["baseline"].get<double>(), true_rig->rig.baseline_m,
+              4 * j["stereo"]["baseline_sigma"].get<double>());
+  EXPECT_GT(j["control_field"]["targets_found"].get<int>(), 120);  // of 200; 5 pans see 70 %
+  EXPECT_TRUE(LoadCalibrationYaml(out).ok());
+
+  const std::string camera_out = dir / "left.yaml";
+  const auto one = RunCommand(kExe + " calibrate camera --images '" + views + "/left/*.png'" +
+                              field + " --out " + camera_out + " --json 2>/dev/null");
+  ASSERT_EQ(one.exit_code, 0) << one.out;
+  const auto k = nlohmann::json::parse(one.out);
+  EXPECT_NEAR(k["fy"].get<double>(), true_rig->rig.left.principal_distance_px,
+              4 * k["sigma"]["c"].get<double>());
+  EXPECT_TRUE(std::filesystem::exists(camera_out));
+}
+
 // The stereo pair: both cameras and the relative orientation, written as the calibration file
 // process reads (schema 2, with the sigmas), the baseline in the unit of --square.
 TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
@@ -186,6 +229,52 @@ TEST(CalibrateCommand, BadInputIsOneClearErrorAndNoFile) {
   for (const auto& c : cases) {
     const auto r = RunCommand(kExe + " calibrate camera " + c.args + " --out " + out + " 2>&1");
     EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
+  }
+}
+
+// A field file with a NaN or a duplicate id, marks without a field's targets, a missing flag:
+// each one clear error naming the file and the field, and no calibration written.
+TEST(CalibrateCommand, BadControlFieldIsOneClearErrorAndNoFile) {
+  testing::TempDir dir;
+  const std::string views = dir / "field", out = dir / "cal.yaml";
+  const auto render = RunCommand(kExe + " sim render --calibration field --field-pans 1 " +
+                                 "--field-tilts 1 --out " + views + " --truth " + (dir / "t"));
+  ASSERT_EQ(render.exit_code, 0) << render.out;
+  std::string targets;
+  for (int id = 1; id <= 6; ++id)
+    targets += "    - {id: " + std::to_string(id) +
+               ", x: 1, y: 2, z: 3, sigma_m: 0.001, "
+               "diameter_m: 0.1}\n";
+  const std::string head = "control_field:\n  version: 1\n  targets:\n";
+  std::ofstream(dir / "nan.yaml") << head << targets
+                                  << "    - {id: 7, x: .nan, y: 2, z: 3, sigma_m: 0.001, "
+                                     "diameter_m: 0.1}\n";
+  std::ofstream(dir / "twice.yaml") << head << targets
+                                    << "    - {id: 3, x: 1, y: 2, z: 3, sigma_m: 0.001, "
+                                       "diameter_m: 0.1}\n";
+  std::ofstream(dir / "marks.yaml") << "marks:\n  - image: left/01.png\n    targets: "
+                                       "[{id: 5, x: 1, y: .inf}]\n";
+  const std::string images = " --images '" + views + "/left/*.png'";
+  const std::string rest = " --marks " + views + "/marks.yaml --start " + views + "/design.yaml";
+  const struct {
+    std::string args, expect;
+  } cases[] = {
+      {images + " --control-field " + (dir / "nan.yaml") + rest,
+       "nan.yaml: control_field.targets[6].x: must be finite"},
+      {images + " --control-field " + (dir / "twice.yaml") + rest,
+       "twice.yaml: control_field.targets[6].id: 3 twice"},
+      {images + " --control-field " + views + "/field.yaml --marks " + (dir / "marks.yaml") +
+           " --start " + views + "/design.yaml",
+       "marks.yaml: marks[0].targets[0].y: must be finite"},
+      {images + " --control-field " + views + "/field.yaml --start " + views + "/design.yaml",
+       "give --marks"},
+      {images + " --control-field " + views + "/field.yaml --chessboard 9x6" + rest, "excludes"},
+  };
+  for (const auto& c : cases) {
+    const auto r = RunCommand(kExe + " calibrate camera" + c.args + " --out " + out + " 2>&1");
+    EXPECT_NE(r.exit_code, 0) << c.args << "\n" << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
   }
