@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "core/log.h"
+#include "processing/calibration/calibration_validation.h"
 #include "processing/calibration/camera_calibration.h"
 #include "processing/calibration/chessboard.h"
 #include "processing/calibration/field_calibration.h"
@@ -34,6 +35,7 @@ struct CalibrateArgs {
   std::string control_field, marks, start;
   std::string side = "left";  // calibrate camera: which design camera starts it
   FieldCalibrationOptions field;
+  ValidationOptions validation;
   std::string out;
   bool json = false;
   bool AtField() const { return !control_field.empty(); }
@@ -179,6 +181,36 @@ nlohmann::json CameraJson(const CameraCalibration& c) {
           {"warnings", c.warnings}};
 }
 
+nlohmann::json ValidationJson(const CalibrationValidation& v) {
+  nlohmann::json maps = nlohmann::json::array();
+  for (const MapValidation& m : v.maps)
+    maps.push_back({{"distance_m", m.distance_m},
+                    {"max_sigma_px", m.max_sigma_px},
+                    {"median_sigma_px", m.median_sigma_px},
+                    {"split", m.split},
+                    {"max_difference_px", m.max_difference_px},
+                    {"consistency", m.consistency},
+                    {"sigma_px", m.sigma_px},
+                    {"difference_px", m.difference_px}});
+  return {
+      {"verdict", v.verdict}, {"reason", v.reason}, {"grid", {v.columns, v.rows}}, {"maps", maps}};
+}
+
+void PrintValidation(const CalibrationValidation& v) {
+  for (const MapValidation& m : v.maps) {
+    std::printf("validation%s: uncertainty %.3f px at most (%.3f median)",
+                m.distance_m > 0
+                    ? (" at " + std::to_string(static_cast<int>(m.distance_m)) + " m").c_str()
+                    : "",
+                m.max_sigma_px, m.median_sigma_px);
+    if (m.split)
+      std::printf("; halves differ by %.3f px at most, %.2f of their sigmas", m.max_difference_px,
+                  m.consistency);
+    std::printf("\n");
+  }
+  std::printf("verdict: %s: %s\n", v.verdict.c_str(), v.reason.c_str());
+}
+
 CameraPrecision PrecisionOf(const CameraCalibration& c) {
   return {true, c.sigma, c.covariance, c.rms_px};
 }
@@ -199,8 +231,9 @@ void PrintCamera(const char* name, const CameraCalibration& c) {
 
 Result<CameraCalibration> CalibrateCameraFromBoards(const CalibrateArgs& args,
                                                     const std::vector<std::string>& files,
-                                                    std::vector<std::string>* skipped) {
-  const TargetViews views = DetectBoards(files, args.board, skipped);
+                                                    std::vector<std::string>* skipped,
+                                                    TargetViews* detected) {
+  const TargetViews& views = *detected = DetectBoards(files, args.board, skipped);
   Result<CameraCalibration> c = CalibrateCamera(views, args.options);
   if (!c)
     return Error{c.error() + " (" + std::to_string(views.views.size()) + " of " +
@@ -214,26 +247,31 @@ void RunCalibrateCamera(CalibrateArgs args) {
   std::vector<std::string> skipped;
   FieldReport field;
   Result<CameraCalibration> c = Error{""};
+  TargetViews views;
   if (args.AtField()) {
     const FieldInputs in =
         LoadFieldInputs(args, {files}, {args.side == "right" ? Side::kRight : Side::kLeft});
     c = CalibrateCameraAtField(in.field, in.views, args.options, args.field, &field);
+    if (c) views = field.views[0];
   } else {
-    c = CalibrateCameraFromBoards(args, files, &skipped);
+    c = CalibrateCameraFromBoards(args, files, &skipped, &views);
   }
   if (!c) throw CommandError(c.error());
+  const CalibrationValidation validation = ValidateCamera(*c, views, args.options, args.validation);
   const std::string yaml = CameraCalibrationToYaml(c->intrinsics, PrecisionOf(*c));
   if (Status s = WriteFileAtomically(args.out, yaml); !s) throw CommandError(s.error());
   if (args.json) {
     nlohmann::json j = CameraJson(*c);
     j["views_skipped"] = skipped;
     if (args.AtField()) j["control_field"] = FieldJson(field);
+    j["validation"] = ValidationJson(validation);
     j["out"] = args.out;
     std::printf("%s\n", j.dump().c_str());
     return;
   }
   if (args.AtField()) PrintFieldReport(field);
   PrintCamera("camera", *c);
+  PrintValidation(validation);
   std::printf("written %s\n", args.out.c_str());
 }
 
@@ -275,19 +313,23 @@ void RunCalibrateStereo(CalibrateArgs args) {
   std::vector<std::string> skipped;
   FieldReport field;
   Result<StereoCalibration> s = Error{""};
+  TargetViews left, right;
   if (args.AtField()) {
     const FieldInputs in =
         LoadFieldInputs(args, {left_files, right_files}, {Side::kLeft, Side::kRight});
     s = CalibrateStereoAtField(in.field, in.views, args.options, args.field, &field);
+    if (s) left = field.views[0], right = field.views[1];
   } else {
-    const TargetViews left = DetectBoards(left_files, args.board, &skipped);
-    const TargetViews right = DetectBoards(right_files, args.board, &skipped);
+    left = DetectBoards(left_files, args.board, &skipped);
+    right = DetectBoards(right_files, args.board, &skipped);
     s = CalibrateStereo(left, right, args.options);
     if (!s)
       s = Error{s.error() + " (the board found in " + std::to_string(left.views.size()) +
                 " left and " + std::to_string(right.views.size()) + " right images)"};
   }
   if (!s) throw CommandError(s.error());
+  const CalibrationValidation validation =
+      ValidateStereo(*s, left, right, args.options, args.validation);
   const Calibration cal = CalibrationOf(*s, previous);
   std::string why;
   if (!cal.Check(&why)) throw CommandError("the stereo calibration is not a valid rig: " + why);
@@ -307,6 +349,7 @@ void RunCalibrateStereo(CalibrateArgs args) {
         {"left", CameraJson(s->left)}, {"right", CameraJson(s->right)}, {"stereo", stereo},
         {"views_skipped", skipped},    {"warnings", s->warnings},       {"out", args.out}};
     if (args.AtField()) j["control_field"] = FieldJson(field);
+    j["validation"] = ValidationJson(validation);
     std::printf("%s\n", j.dump().c_str());
     return;
   }
@@ -319,6 +362,7 @@ void RunCalibrateStereo(CalibrateArgs args) {
       s->rms_px, s->baseline, s->baseline_sigma, s->angles_deg.x(), s->angles_deg.y(),
       s->angles_deg.z(), s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z(),
       args.out.c_str());
+  PrintValidation(validation);
 }
 
 struct OpenCvArgs {

@@ -57,7 +57,7 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
                                  const CameraCalibrationOptions& o) {
   CameraCalibration r;
   r.intrinsics = a.Intrinsics(c);
-  r.covariance = precision.intrinsics_covariance[c];
+  r.covariance = precision.IntrinsicsCovariance(c);
   for (int i = 0; i < kN; ++i) r.sigma[i] = std::sqrt(std::max(0.0, r.covariance(i, i)));
   for (int i = 0; i < kN; ++i)
     for (int j = 0; j < kN; ++j) {
@@ -168,7 +168,8 @@ Result<StereoCalibration> CalibrateStereo(const TargetViews& left, const TargetV
   const Pose6& pose = a.second_from_first;
   r.right_from_left = a.SecondFromFirst();
   const Eigen::Vector4d relative = RelativeOrientation(pose);
-  r.covariance = RelativeOrientationCovariance(pose, precision->relative_covariance);
+  r.covariance = RelativeOrientationCovariance(pose, precision->RelativeCovariance());
+  r.joint_covariance = precision->covariance;
   r.baseline = relative[0];
   r.baseline_sigma = std::sqrt(r.covariance(0, 0));
   r.angles_deg = relative.tail<3>();

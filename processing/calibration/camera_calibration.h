@@ -105,6 +105,8 @@ struct StereoCalibration {
   Eigen::Vector3d angles_sigma_deg = Eigen::Vector3d::Zero();
   // Of (baseline, omega, phi, kappa), in the target's unit and degrees.
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  // Of every parameter jointly: the left intrinsics, the right's, right_from_left as a Pose6.
+  Eigen::MatrixXd joint_covariance;
   double rms_px = 0.0;  // over the measured points of both images
   double sigma0_px = 0.0;
   int observations = 0;

@@ -263,6 +263,7 @@ Result<CameraCalibration> CalibrateCameraAtField(const ControlField& field, cons
                           o.refine_search_px, o, report);
   Result<CameraCalibration> final = CalibrateCamera(measured[0], calibration, &first->intrinsics);
   if (final) ReportTargets(field, centre, measured, *final, o, report);
+  report->views = measured;
   return final;
 }
 
@@ -286,6 +287,7 @@ Result<StereoCalibration> CalibrateStereoAtField(const ControlField& field, cons
   Result<StereoCalibration> final = CalibrateStereo(
       measured[0], measured[1], calibration, &first->left.intrinsics, &first->right.intrinsics);
   if (final) ReportTargets(field, centre, measured, final->left, o, report);
+  report->views = measured;
   return final;
 }
 

@@ -64,6 +64,7 @@ struct FieldReport {
   int targets_found = 0;         // distinct targets measured in some image
   double target_sigma_px = 0.0;  // median of the matching's sigmas
   std::vector<std::string> warnings;
+  std::vector<TargetViews> views;  // per camera, as the final adjustment saw them
 };
 
 Result<CameraCalibration> CalibrateCameraAtField(const ControlField& field, const FieldViews& views,

@@ -61,14 +61,6 @@ struct SurveyedPointResidual {
   }
 };
 
-Pose6 PoseFromIsometry(const Eigen::Isometry3d& t) {
-  Pose6 pose;
-  const Eigen::Matrix3d rotation = t.linear();
-  ceres::RotationMatrixToAngleAxis(rotation.data(), pose.data());
-  for (int j = 0; j < 3; ++j) pose[3 + j] = t.translation()[j];
-  return pose;
-}
-
 cv::Mat CameraMatrix(const IntrinsicVector& p) {
   return (cv::Mat_<double>(3, 3) << p[0], 0, p[1], 0, p[0], p[2], 0, 0, 1);
 }
@@ -325,26 +317,27 @@ bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::SPARSE_QR;
   ceres::Covariance covariance(options);
+  std::vector<std::pair<double*, int>> parameters;
+  for (auto& intrinsics : a->intrinsics) parameters.emplace_back(intrinsics.data(), kN);
+  if (a->cameras.size() == 2) parameters.emplace_back(a->second_from_first.data(), 6);
   std::vector<std::pair<const double*, const double*>> blocks;
-  for (auto& intrinsics : a->intrinsics) blocks.emplace_back(intrinsics.data(), intrinsics.data());
-  const bool two = a->cameras.size() == 2;
-  if (two) blocks.emplace_back(a->second_from_first.data(), a->second_from_first.data());
+  for (size_t i = 0; i < parameters.size(); ++i)
+    for (size_t j = i; j < parameters.size(); ++j)
+      blocks.emplace_back(parameters[i].first, parameters[j].first);
   if (!covariance.Compute(blocks, problem)) return false;
   const double scale = precision->sigma0_px * precision->sigma0_px;
-  precision->intrinsics_covariance.clear();
-  for (auto& intrinsics : a->intrinsics) {
-    Eigen::Matrix<double, kN, kN, Eigen::RowMajor> c;
-    if (!covariance.GetCovarianceBlock(intrinsics.data(), intrinsics.data(), c.data()))
-      return false;
-    precision->intrinsics_covariance.push_back(scale * c);
-  }
-  if (two) {
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> c;
-    if (!covariance.GetCovarianceBlock(a->second_from_first.data(), a->second_from_first.data(),
-                                       c.data()))
-      return false;
-    precision->relative_covariance = scale * c;
-  }
+  int size = 0;
+  for (const auto& p : parameters) size += p.second;
+  precision->covariance = Eigen::MatrixXd::Zero(size, size);
+  for (size_t i = 0, row = 0; i < parameters.size(); row += parameters[i++].second)
+    for (size_t j = i, column = row; j < parameters.size(); column += parameters[j++].second) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
+          parameters[i].second, parameters[j].second);
+      if (!covariance.GetCovarianceBlock(parameters[i].first, parameters[j].first, c.data()))
+        return false;
+      precision->covariance.block(row, column, c.rows(), c.cols()) = scale * c;
+      precision->covariance.block(column, row, c.cols(), c.rows()) = scale * c.transpose();
+    }
   return true;
 }
 
@@ -387,6 +380,14 @@ double ImageSigmaComponent(TargetAdjustment* a, ceres::Problem* problem,
 }
 
 }  // namespace
+
+Pose6 PoseFromIsometry(const Eigen::Isometry3d& t) {
+  Pose6 pose;
+  const Eigen::Matrix3d rotation = t.linear();
+  ceres::RotationMatrixToAngleAxis(rotation.data(), pose.data());
+  for (int j = 0; j < 3; ++j) pose[3 + j] = t.translation()[j];
+  return pose;
+}
 
 Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
   Eigen::Matrix3d rotation;  // column-major, as Ceres writes it
@@ -506,13 +507,13 @@ namespace {
 // covariance: that is what is reported for the terms left free.
 void KeepFullModelCovariance(const TargetAdjustment& a, const AdjustmentPrecision& full,
                              AdjustmentPrecision* reduced) {
-  for (size_t c = 0; c < a.cameras.size(); ++c) {
-    IntrinsicMatrix covariance = full.intrinsics_covariance[c];
+  reduced->covariance = full.covariance;
+  for (size_t c = 0; c < a.cameras.size(); ++c)
     for (int j = 0; j < kN; ++j)
-      if (a.fixed[c][j]) covariance.row(j).setZero(), covariance.col(j).setZero();
-    reduced->intrinsics_covariance[c] = covariance;
-  }
-  reduced->relative_covariance = full.relative_covariance;
+      if (a.fixed[c][j]) {
+        reduced->covariance.row(kN * c + j).setZero();
+        reduced->covariance.col(kN * c + j).setZero();
+      }
 }
 
 }  // namespace
@@ -528,7 +529,7 @@ Result<std::vector<std::vector<std::string>>> FixInsignificantTerms(
     for (size_t c = 0; c < a->cameras.size(); ++c)
       for (int j = 3; j < kN; ++j) {  // the distortion and affinity terms
         if (a->fixed[c][j]) continue;
-        const double sigma = std::sqrt(precision->intrinsics_covariance[c](j, j));
+        const double sigma = std::sqrt(precision->IntrinsicsCovariance(c)(j, j));
         const double t = sigma > 0.0 ? std::abs(a->intrinsics[c][j]) / sigma : 0.0;
         if (t < worst_t) worst_t = t, worst_camera = static_cast<int>(c), worst_term = j;
       }

@@ -89,8 +89,16 @@ struct AdjustmentPrecision {
   // False when the normal matrix is singular (some free parameter not determined); the
   // covariances are then unknown.
   bool determined = true;
-  std::vector<IntrinsicMatrix> intrinsics_covariance;  // per camera, 0 rows for fixed terms
-  Eigen::Matrix<double, 6, 6> relative_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  // Of the calibration's parameters, jointly: each camera's intrinsics (kIntrinsicCount each),
+  // then the relative orientation (Pose6, two cameras only); 0 rows for fixed terms.
+  Eigen::MatrixXd covariance;
+  IntrinsicMatrix IntrinsicsCovariance(int camera) const {
+    return covariance.block<kIntrinsicCount, kIntrinsicCount>(kIntrinsicCount * camera,
+                                                              kIntrinsicCount * camera);
+  }
+  Eigen::Matrix<double, 6, 6> RelativeCovariance() const {
+    return covariance.bottomRightCorner<6, 6>();
+  }
 };
 
 // The starting point: for a camera without a given one, Zhang's closed form (OpenCV's
@@ -104,6 +112,7 @@ Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* adjustment,
                                                   const TargetAdjustmentOptions& options);
 
 Eigen::Isometry3d IsometryFromPose(const Pose6& pose);
+Pose6 PoseFromIsometry(const Eigen::Isometry3d& isometry);
 
 // The measured minus the projected pixel, [camera][view][pixel] (the project's projection).
 std::vector<std::vector<std::vector<Eigen::Vector2d>>> TargetResiduals(

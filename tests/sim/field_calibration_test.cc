@@ -6,6 +6,7 @@
 
 #include <random>
 
+#include "processing/calibration/calibration_validation.h"
 #include "processing/calibration/circular_target.h"
 #include "processing/calibration/field_calibration.h"
 #include "sim/calibration_field.h"
@@ -113,6 +114,9 @@ TEST(FieldCalibration, RecoversTheTrueRigFromRenderedImages) {
   EXPECT_LT(errors.distortion_px, 0.1);
   EXPECT_LT(errors.baseline.MaxAbs(), 2e-4);
   EXPECT_LT(errors.angles.MaxAbs(), 0.005);
+  // Targets in every part of both frames: the stereo map is known within a tenth of a pixel.
+  const CalibrationValidation v = ValidateStereo(*c, report.views[0], report.views[1], {}, {});
+  EXPECT_EQ(v.verdict, "good") << v.reason;
 }
 
 // The adjustment at the field on exact projections with 0.02 px noise and the survey's 1 mm:

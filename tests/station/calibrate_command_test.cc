@@ -107,6 +107,12 @@ TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRig) {
   EXPECT_NEAR(j["stereo"]["baseline"].get<double>(), true_rig->rig.baseline_m,
               4 * j["stereo"]["baseline_sigma"].get<double>());
   EXPECT_GT(j["control_field"]["targets_found"].get<int>(), 120);  // of 200; 5 pans see 70 %
+  // The halves (alternate stage poses) agree; the verdict is stated with its reason.
+  for (const auto& m : j["validation"]["maps"]) {
+    EXPECT_TRUE(m["split"].get<bool>());
+    EXPECT_LT(m["consistency"].get<double>(), 3.0);
+  }
+  EXPECT_NE(j["validation"]["verdict"], "overfitted") << j["validation"]["reason"];
   EXPECT_TRUE(LoadCalibrationYaml(out).ok());
 
   const std::string camera_out = dir / "left.yaml";
@@ -142,6 +148,9 @@ TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
     EXPECT_NE(j[side]["warnings"].dump().find("along the frame's edges"), std::string::npos)
         << side;
   }
+  // The verdict says so: the stereo map is uncertain by pixels at the frame's edges.
+  EXPECT_EQ(j["validation"]["verdict"], "needs views at the edges") << j["validation"]["reason"];
+  EXPECT_GT(j["validation"]["maps"][0]["max_sigma_px"].get<double>(), 1.0);
   const double baseline = j["stereo"]["baseline"].get<double>();
   EXPECT_NEAR(baseline / 0.025, 3.32, 0.05) << "about 3.3 squares";
   const Result<Calibration> cal = LoadCalibrationYaml(out);
