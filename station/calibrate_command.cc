@@ -19,6 +19,7 @@
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/opencv_calibration_file.h"
+#include "station/calibration_report.h"
 #include "station/commands.h"
 #include "station/option_flags.h"
 
@@ -211,6 +212,15 @@ void PrintValidation(const CalibrationValidation& v) {
   std::printf("verdict: %s: %s\n", v.verdict.c_str(), v.reason.c_str());
 }
 
+// The report beside the calibration file; its directory.
+std::string WriteReport(const CalibrationReport& report, const std::string& calibration_file) {
+  const std::string dir = CalibrationReportDir(calibration_file);
+  const Result<std::vector<std::string>> written = WriteCalibrationReport(report, dir);
+  if (!written)
+    throw CommandError("the calibration is written, its report is not: " + written.error());
+  return dir;
+}
+
 CameraPrecision PrecisionOf(const CameraCalibration& c) {
   return {true, c.sigma, c.covariance, c.rms_px};
 }
@@ -260,19 +270,21 @@ void RunCalibrateCamera(CalibrateArgs args) {
   const CalibrationValidation validation = ValidateCamera(*c, views, args.options, args.validation);
   const std::string yaml = CameraCalibrationToYaml(c->intrinsics, PrecisionOf(*c));
   if (Status s = WriteFileAtomically(args.out, yaml); !s) throw CommandError(s.error());
+  nlohmann::json j = CameraJson(*c);
+  j["views_skipped"] = skipped;
+  if (args.AtField()) j["control_field"] = FieldJson(field);
+  j["validation"] = ValidationJson(validation);
+  j["out"] = args.out;
+  j["report"] = WriteReport({j, {{"camera", &*c}}, &validation}, args.out);
   if (args.json) {
-    nlohmann::json j = CameraJson(*c);
-    j["views_skipped"] = skipped;
-    if (args.AtField()) j["control_field"] = FieldJson(field);
-    j["validation"] = ValidationJson(validation);
-    j["out"] = args.out;
     std::printf("%s\n", j.dump().c_str());
     return;
   }
   if (args.AtField()) PrintFieldReport(field);
   PrintCamera("camera", *c);
   PrintValidation(validation);
-  std::printf("written %s\n", args.out.c_str());
+  std::printf("written %s, report in %s\n", args.out.c_str(),
+              j["report"].get<std::string>().c_str());
 }
 
 // The stereo result as a calibration `process` reads: the stage kinematics and the rig's roll
@@ -334,22 +346,23 @@ void RunCalibrateStereo(CalibrateArgs args) {
   std::string why;
   if (!cal.Check(&why)) throw CommandError("the stereo calibration is not a valid rig: " + why);
   if (Status st = SaveCalibrationYaml(cal, args.out); !st) throw CommandError(st.error());
+  const nlohmann::json stereo = {
+      {"rms_px", s->rms_px},
+      {"sigma0_px", s->sigma0_px},
+      {"baseline", s->baseline},
+      {"baseline_sigma", s->baseline_sigma},
+      {"angles_deg", {s->angles_deg.x(), s->angles_deg.y(), s->angles_deg.z()}},
+      {"angles_sigma_deg",
+       {s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z()}},
+      {"observations", s->observations},
+      {"rejected", s->rejected}};
+  nlohmann::json j = {
+      {"left", CameraJson(s->left)}, {"right", CameraJson(s->right)}, {"stereo", stereo},
+      {"views_skipped", skipped},    {"warnings", s->warnings},       {"out", args.out}};
+  if (args.AtField()) j["control_field"] = FieldJson(field);
+  j["validation"] = ValidationJson(validation);
+  j["report"] = WriteReport({j, {{"left", &s->left}, {"right", &s->right}}, &validation}, args.out);
   if (args.json) {
-    const nlohmann::json stereo = {
-        {"rms_px", s->rms_px},
-        {"sigma0_px", s->sigma0_px},
-        {"baseline", s->baseline},
-        {"baseline_sigma", s->baseline_sigma},
-        {"angles_deg", {s->angles_deg.x(), s->angles_deg.y(), s->angles_deg.z()}},
-        {"angles_sigma_deg",
-         {s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z()}},
-        {"observations", s->observations},
-        {"rejected", s->rejected}};
-    nlohmann::json j = {
-        {"left", CameraJson(s->left)}, {"right", CameraJson(s->right)}, {"stereo", stereo},
-        {"views_skipped", skipped},    {"warnings", s->warnings},       {"out", args.out}};
-    if (args.AtField()) j["control_field"] = FieldJson(field);
-    j["validation"] = ValidationJson(validation);
     std::printf("%s\n", j.dump().c_str());
     return;
   }
@@ -358,11 +371,12 @@ void RunCalibrateStereo(CalibrateArgs args) {
   PrintCamera("right", s->right);
   std::printf(
       "stereo: RMS %.3f px; baseline %.5f +- %.5f; omega phi kappa %.4f %.4f %.4f (+- %.4f %.4f "
-      "%.4f) deg\nwritten %s\n",
+      "%.4f) deg\n",
       s->rms_px, s->baseline, s->baseline_sigma, s->angles_deg.x(), s->angles_deg.y(),
-      s->angles_deg.z(), s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z(),
-      args.out.c_str());
+      s->angles_deg.z(), s->angles_sigma_deg.x(), s->angles_sigma_deg.y(), s->angles_sigma_deg.z());
   PrintValidation(validation);
+  std::printf("written %s, report in %s\n", args.out.c_str(),
+              j["report"].get<std::string>().c_str());
 }
 
 struct OpenCvArgs {

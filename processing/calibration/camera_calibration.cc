@@ -75,6 +75,8 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
     for (size_t i = 0; i < residuals[v].size(); ++i) {
       view += residuals[v][i].squaredNorm();
       r.rejected += a.rejected[c][v][i];
+      r.residuals.push_back({views.views[v].pixels[i], residuals[v][i], static_cast<int>(v),
+                             a.rejected[c][v][i] != 0});
     }
     total += view;
     r.observations += static_cast<int>(residuals[v].size());

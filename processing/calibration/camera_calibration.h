@@ -60,6 +60,14 @@ struct CameraCalibrationOptions {
   bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 };
 
+// One measured point after the adjustment, for the report's pictures.
+struct ObservedResidual {
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  Eigen::Vector2d residual = Eigen::Vector2d::Zero();  // measured minus projected
+  int view = 0;                                        // index into view_names
+  bool rejected = false;
+};
+
 struct CameraCalibration {
   CameraIntrinsics intrinsics;
   // A posteriori sigma of each parameter (kParameterNames order; 0 for a fixed one).
@@ -72,6 +80,7 @@ struct CameraCalibration {
   double sigma0_px = 0.0;  // of one image coordinate, a posteriori, from the inliers
   std::vector<std::string> view_names;
   std::vector<double> view_rms_px;
+  std::vector<ObservedResidual> residuals;
   std::vector<Eigen::Isometry3d> camera_from_target;  // per view
   // The target points as adjusted: a control field's surveyed points moved within their
   // sigma; a board's as given.

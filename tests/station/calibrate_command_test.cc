@@ -1,6 +1,8 @@
 // topostation calibrate camera on the real chessboard views, and its bad inputs.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -151,6 +153,15 @@ TEST(CalibrateCommand, StereoFromTheRealBoardsWritesACalibrationProcessReads) {
   // The verdict says so: the stereo map is uncertain by pixels at the frame's edges.
   EXPECT_EQ(j["validation"]["verdict"], "needs views at the edges") << j["validation"]["reason"];
   EXPECT_GT(j["validation"]["maps"][0]["max_sigma_px"].get<double>(), 1.0);
+  // The report beside the file: what --json printed, and the pictures.
+  EXPECT_EQ(j["report"], dir / "cal.report");
+  const auto report = nlohmann::json::parse(std::ifstream(dir / "cal.report/report.json"));
+  EXPECT_EQ(report["validation"]["verdict"], j["validation"]["verdict"]);
+  for (const char* picture : {"residuals_left.png", "histogram_right.png", "view_rms_left.png",
+                              "coverage_right.png", "uncertainty.png"}) {
+    const cv::Mat image = cv::imread(dir / (std::string("cal.report/") + picture));
+    EXPECT_GT(image.cols, 300) << picture;
+  }
   const double baseline = j["stereo"]["baseline"].get<double>();
   EXPECT_NEAR(baseline / 0.025, 3.32, 0.05) << "about 3.3 squares";
   const Result<Calibration> cal = LoadCalibrationYaml(out);
