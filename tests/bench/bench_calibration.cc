@@ -1,0 +1,379 @@
+// Calibration (issue 20), ours beside the tools people use, in one table:
+//  - OpenCV's stereo chessboard sample, the same detections for everyone: RMS per camera
+//    against calibrateCamera's and stereo RMS against stereoCalibrate's, the focal lengths'
+//    difference, the principal distance's sigma, the time; beside them mrcal
+//    (mrcal-calibrate-cameras on the same corners, LENSMODEL_OPENCV5): its RMS (each view's
+//    pose fitted to the same corners with its camera), its focal length, and the largest
+//    projection difference between its camera and ours over the frame;
+//  - the simulated control field, seeds 1-10 (rendered images, hand marks, the whole chain):
+//    issue 20's targets (principal distance 0.05 %, principal point 0.3 px, distortion 0.1 px,
+//    baseline 0.2 mm, angles 0.005 deg) as the largest error over the seeds, and the RMS of
+//    error / sigma (0.7-1.5: honest sigmas);
+//  - rendered chessboard sessions (40 placements), seeds 1-3: the same errors, ours and
+//    OpenCV's stereoCalibrate on the same corners;
+//  - the hills station processed with the calibration recovered from the field and from the
+//    board session (the stage kinematics the true ones): DEM RMSE and coverage against the
+//    true calibration's (within 10 %, within 1 point).
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "processing/calibration/camera_calibration.h"
+#include "processing/calibration/chessboard.h"
+#include "processing/calibration/field_calibration.h"
+#include "processing/calibration/opencv_camera.h"
+#include "processing/io/calibration_yaml.h"
+#include "sim/calibration_field.h"
+#include "sim/calibration_views.h"
+#include "sim/noise.h"
+#include "sim/sensor.h"
+#include "tests/bench/bench_table.h"
+#include "tests/common/calibration_errors.h"
+#include "tests/common/temp_dir.h"
+
+namespace {
+
+using namespace ts;
+const std::string kBoards = TS_SHARED_DATA_DIR "/calibration/opencv_stereo_chessboard";
+
+// The value, or the error on stderr and the run ended.
+template <typename T>
+T Must(Result<T> r, const std::string& what) {
+  if (!r) {
+    std::fprintf(stderr, "%s: %s\n", what.c_str(), r.error().c_str());
+    std::exit(1);
+  }
+  return *std::move(r);
+}
+
+double Since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Corners {
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+};
+
+Corners OpenCvCorners(const TargetViews& v) {
+  Corners c;
+  for (const TargetView& view : v.views) {
+    c.object.emplace_back();
+    c.image.emplace_back();
+    for (size_t i = 0; i < view.ids.size(); ++i) {
+      const Eigen::Vector3d& t = v.target[view.ids[i]];
+      c.object.back().emplace_back(t.x(), t.y(), t.z());
+      c.image.back().emplace_back(view.pixels[i].x(), view.pixels[i].y());
+    }
+  }
+  return c;
+}
+
+// The largest distance over the frame between where our camera and OpenCV's model (k, d) put
+// the same direction.
+double ProjectionDifferencePx(const CameraIntrinsics& ours, const cv::Mat& k, const cv::Mat& d) {
+  const CameraModel model(ours);
+  const OpenCvCamera other{ours.width_px, ours.height_px, k, d};
+  double worst = 0.0;
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) {
+      const Eigen::Vector2d u((ours.width_px - 1) * i / 20.0, (ours.height_px - 1) * j / 20.0);
+      worst = std::max(worst, (ProjectOpenCv(other, model.RayFromPixel(u)) - u).norm());
+    }
+  return worst;
+}
+
+// RMS (OpenCV's definition) of a fixed camera on the views, each view's pose fitted.
+double RmsWithFixedCamera(const Corners& c, const cv::Mat& k, const cv::Mat& d) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t v = 0; v < c.object.size(); ++v) {
+    cv::Mat rvec, tvec;
+    cv::solvePnP(c.object[v], c.image[v], k, d, rvec, tvec);
+    std::vector<cv::Point2f> projected;
+    cv::projectPoints(c.object[v], rvec, tvec, k, d, projected);
+    for (size_t i = 0; i < projected.size(); ++i) {
+      const cv::Point2f e = projected[i] - c.image[v][i];
+      sum += e.dot(e);
+      ++n;
+    }
+  }
+  return std::sqrt(sum / n);
+}
+
+// mrcal-calibrate-cameras on the views' corners; its OpenCV-5 camera (k, d), time in seconds.
+bool Mrcal(const TargetViews& views, int columns, int rows, double spacing, double focal,
+           cv::Mat* k, cv::Mat* d, double* seconds) {
+  testing::TempDir dir;
+  {
+    std::ofstream cache(dir / "corners.vnl");
+    cache << "# filename x y level\n";
+    for (const TargetView& v : views.views)
+      for (const Eigen::Vector2d& p : v.pixels)
+        cache << "view-" << v.name << ".png " << p.x() << " " << p.y() << " 0\n";
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string run =
+      "cd " + dir.path().string() +
+      " && mrcal-calibrate-cameras --corners-cache corners.vnl --lensmodel LENSMODEL_OPENCV5 "
+      "--focal " +
+      std::to_string(focal) + " --object-spacing " + std::to_string(spacing) +
+      " --object-width-n " + std::to_string(columns) + " --object-height-n " +
+      std::to_string(rows) + " --imagersize " + std::to_string(views.width_px) + " " +
+      std::to_string(views.height_px) + " --outdir . 'view-*.png' > mrcal.log 2>&1";
+  if (std::system(run.c_str()) != 0) return false;
+  *seconds = Since(t0);
+  const std::string read = "/usr/bin/python3 -c \"import mrcal; print(*mrcal.cameramodel('" +
+                           (dir / "camera-0.cameramodel") + "').intrinsics()[1])\" > " +
+                           (dir / "intrinsics.txt");
+  if (std::system(read.c_str()) != 0) return false;
+  std::ifstream in(dir / "intrinsics.txt");
+  double p[9];
+  for (double& x : p)
+    if (!(in >> x)) return false;
+  *k = (cv::Mat_<double>(3, 3) << p[0], 0, p[2], 0, p[1], p[3], 0, 0, 1);
+  *d = (cv::Mat_<double>(1, 5) << p[4], p[5], p[6], p[7], p[8]);
+  return true;
+}
+
+void RealSet(bench::Table* table) {
+  const ChessboardOptions board;  // 9 x 6, unit squares
+  TargetViews left, right;
+  for (TargetViews* side : {&left, &right}) side->target = ChessboardCorners(board);
+  for (int i = 1; i <= 14; ++i) {
+    char l[32], r[32];
+    std::snprintf(l, sizeof(l), "left%02d.jpg", i);
+    std::snprintf(r, sizeof(r), "right%02d.jpg", i);
+    if (!std::filesystem::exists(kBoards + "/" + l)) continue;
+    const cv::Mat lg = cv::imread(kBoards + "/" + l, cv::IMREAD_GRAYSCALE);
+    const cv::Mat rg = cv::imread(kBoards + "/" + r, cv::IMREAD_GRAYSCALE);
+    left.width_px = right.width_px = lg.cols;
+    left.height_px = right.height_px = lg.rows;
+    auto lc = DetectChessboard(lg, board), rc = DetectChessboard(rg, board);
+    if (!lc || !rc) continue;
+    left.AddFullView(l, i, *lc);
+    right.AddFullView(r, i, *rc);
+  }
+  const cv::Size size(left.width_px, left.height_px);
+  cv::Mat k[2], d[2];
+  double opencv_rms[2];
+  for (int c = 0; c < 2; ++c) {
+    const TargetViews& views = c == 0 ? left : right;
+    const std::string name = c == 0 ? "real left: " : "real right: ";
+    const Corners corners = OpenCvCorners(views);
+    std::vector<cv::Mat> rv, tv;
+    auto t0 = std::chrono::steady_clock::now();
+    opencv_rms[c] = cv::calibrateCamera(corners.object, corners.image, size, k[c], d[c], rv, tv);
+    const double opencv_s = Since(t0);
+    t0 = std::chrono::steady_clock::now();
+    const CameraCalibration ours = Must(CalibrateCamera(views, {}), name + "ours");
+    const double ours_s = Since(t0);
+    table->Add({name + "RMS ours", ours.rms_px, "px", "<= 1.02 OpenCV",
+                ours.rms_px <= 1.02 * opencv_rms[c]});
+    table->Add({name + "RMS OpenCV calibrateCamera", opencv_rms[c], "px", ""});
+    const double fx_difference = ours.fx() / k[c].at<double>(0, 0) - 1.0;
+    table->Add({name + "fx ours / OpenCV - 1", fx_difference, "", "|x| <= 0.005",
+                std::abs(fx_difference) <= 0.005});
+    table->Add({name + "c sigma ours", ours.sigma[0], "px", ""});
+    table->Add({name + "projection ours vs OpenCV, largest",
+                ProjectionDifferencePx(ours.intrinsics, k[c], d[c]), "px", ""});
+    table->Add({name + "time ours", ours_s, "s", ""});
+    table->Add({name + "time OpenCV", opencv_s, "s", ""});
+    cv::Mat mk, md;
+    double mrcal_s = 0.0;
+    if (!Mrcal(views, board.columns, board.rows, board.square, ours.fx(), &mk, &md, &mrcal_s)) {
+      table->Add({name + "mrcal ran", 0.0, "", "== 1", false});
+      continue;
+    }
+    table->Add(
+        {name + "RMS mrcal (poses refitted)", RmsWithFixedCamera(corners, mk, md), "px", ""});
+    table->Add({name + "fx ours / mrcal - 1", ours.fx() / mk.at<double>(0, 0) - 1.0, "", ""});
+    table->Add({name + "projection ours vs mrcal, largest",
+                ProjectionDifferencePx(ours.intrinsics, mk, md), "px", ""});
+    table->Add({name + "time mrcal-calibrate-cameras", mrcal_s, "s", ""});
+  }
+  const Corners l = OpenCvCorners(left), r = OpenCvCorners(right);
+  cv::Mat rr, tt, e, f;
+  const double opencv_stereo =
+      cv::stereoCalibrate(l.object, l.image, r.image, k[0], d[0], k[1], d[1], size, rr, tt, e, f,
+                          cv::CALIB_USE_INTRINSIC_GUESS);
+  const StereoCalibration ours = Must(CalibrateStereo(left, right, {}), "real stereo");
+  table->Add({"real stereo: RMS ours", ours.rms_px, "px", "<= 1.02 OpenCV",
+              ours.rms_px <= 1.02 * opencv_stereo});
+  table->Add({"real stereo: RMS OpenCV stereoCalibrate", opencv_stereo, "px", ""});
+  table->Add({"real stereo: baseline ours (squares)", ours.baseline, "", ""});
+  table->Add({"real stereo: baseline OpenCV (squares)", cv::norm(tt), "", ""});
+}
+
+void AddErrors(const std::string& name, const StereoErrors& e, bool targets, bench::Table* table) {
+  const auto row = [&](const std::string& what, double value, const char* unit, double limit) {
+    char target[32] = "";
+    if (targets) std::snprintf(target, sizeof(target), "<= %g", limit);
+    table->Add({name + what, value, unit, target, !targets || value <= limit});
+  };
+  row("largest c error", 100 * e.c_rel.MaxAbs(), "%", 0.05);
+  row("largest principal point error", e.pp.MaxAbs(), "px", 0.3);
+  row("largest distortion error over the frame", e.distortion_px, "px", 0.1);
+  row("largest baseline error", 1e3 * e.baseline.MaxAbs(), "mm", 0.2);
+  row("largest angle error", e.angles.MaxAbs(), "deg", 0.005);
+  for (const auto& [what, errors] : {std::pair{"c", &e.c_rel}, std::pair{"principal point", &e.pp},
+                                     std::pair{"baseline", &e.baseline}}) {
+    const double n = errors->NormalisedRms();
+    table->Add({name + "RMS error/sigma, " + what, n, "", targets ? "0.7-1.5" : "",
+                !targets || (n >= 0.7 && n <= 1.5)});
+  }
+}
+
+cv::Mat AsFloat(const cv::Mat& mono8) {
+  cv::Mat f;
+  mono8.convertTo(f, CV_32FC1, 1.0 / 255.0);
+  return f;
+}
+
+void Field(bench::Table* table) {
+  StereoErrors errors;
+  double seconds = 0.0;
+  for (int seed = 1; seed <= 10; ++seed) {
+    const sim::SimRig rig = sim::MakeSimRig(seed, 1.5);
+    const sim::FieldSessionOptions o;
+    const sim::FieldSession s = sim::PlanFieldSession(rig, seed, o);
+    FieldViews views;
+    views.images.resize(2);
+    for (size_t k = 0; k < s.poses.size(); ++k)
+      for (Side side : {Side::kLeft, Side::kRight}) {
+        const CameraIntrinsics& camera =
+            side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right;
+        const cv::Mat image =
+            sim::ExposeImage(sim::RenderFieldView(rig, s, side, s.poses[k], o.supersampling),
+                             camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
+                             sim::Hash(seed, k, side == Side::kLeft));
+        FieldImage fi{std::to_string(k), AsFloat(image), {}};
+        if (side == Side::kLeft) fi.marks = s.marks[k].marks;
+        views.images[side == Side::kLeft ? 0 : 1].push_back(std::move(fi));
+      }
+    views.start = {rig.nominal.rig.left, rig.nominal.rig.right};
+    views.second_from_first = rig.nominal.rig.RightFromLeftCamera();
+    FieldReport report;
+    const auto t0 = std::chrono::steady_clock::now();
+    const StereoCalibration c =
+        Must(CalibrateStereoAtField(s.surveyed, views, {}, {}, &report), "field");
+    seconds += Since(t0);
+    errors.Add(c, rig.truth.rig);
+  }
+  AddErrors("field, 10 seeds: ", errors, true, table);
+  table->Add({"field: calibrate stereo, mean per session", seconds / 10, "s", ""});
+}
+
+void Boards(bench::Table* table) {
+  StereoErrors ours, opencv;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const sim::SimRig rig = sim::MakeSimRig(seed, 1.5);
+    const sim::BoardSessionOptions o;
+    const std::vector<sim::BoardPlacement> session = sim::RenderBoardSession(rig, seed, o);
+    TargetViews left, right;
+    for (TargetViews* v : {&left, &right}) {
+      v->target = ChessboardCorners(o.Board());
+      v->width_px = rig.truth.rig.left.width_px;
+      v->height_px = rig.truth.rig.left.height_px;
+    }
+    for (size_t k = 0; k < session.size(); ++k) {
+      auto l = DetectChessboard(session[k].left, o.Board());
+      auto r = DetectChessboard(session[k].right, o.Board());
+      if (!l || !r) continue;  // OpenCV pairs only views both cameras saw
+      left.AddFullView(session[k].name, static_cast<int>(k), *l);
+      right.AddFullView(session[k].name, static_cast<int>(k), *r);
+    }
+    ours.Add(Must(CalibrateStereo(left, right, {}), "boards"), rig.truth.rig);
+    const Corners lc = OpenCvCorners(left), rc = OpenCvCorners(right);
+    const cv::Size size(left.width_px, left.height_px);
+    cv::Mat k1, d1, k2, d2, r, t, e, f;
+    std::vector<cv::Mat> rv, tv;
+    cv::calibrateCamera(lc.object, lc.image, size, k1, d1, rv, tv);
+    cv::calibrateCamera(rc.object, rc.image, size, k2, d2, rv, tv);
+    cv::stereoCalibrate(lc.object, lc.image, rc.image, k1, d1, k2, d2, size, r, t, e, f,
+                        cv::CALIB_USE_INTRINSIC_GUESS);
+    const StereoRig& truth = rig.truth.rig;
+    for (const auto& [k, camera] : {std::pair{&k1, &truth.left}, std::pair{&k2, &truth.right}}) {
+      opencv.c_rel.Add(k->at<double>(1, 1) / camera->principal_distance_px - 1.0, 1.0);
+      opencv.pp.Add(k->at<double>(0, 2) - camera->principal_point_x_px, 1.0);
+      opencv.pp.Add(k->at<double>(1, 2) - camera->principal_point_y_px, 1.0);
+    }
+    opencv.baseline.Add(cv::norm(t) - truth.baseline_m, 1.0);
+    Eigen::Matrix3d rotation;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) rotation(i, j) = r.at<double>(i, j);
+    const Opk opk = OpkFromRotation(rotation.transpose());
+    const Eigen::Vector3d angles(DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
+                                 DegFromRad(opk.kappa_rad));
+    for (int j = 0; j < 3; ++j) opencv.angles.Add(angles[j] - RelativeAnglesDeg(truth)[j], 1.0);
+  }
+  AddErrors("boards, 3 seeds, ours: ", ours, false, table);
+  const auto row = [&](const std::string& what, double v, const char* unit) {
+    table->Add({"boards, 3 seeds, OpenCV: " + what, v, unit, ""});
+  };
+  row("largest c error", 100 * opencv.c_rel.MaxAbs(), "%");
+  row("largest principal point error", opencv.pp.MaxAbs(), "px");
+  row("largest baseline error", 1e3 * opencv.baseline.MaxAbs(), "mm");
+  row("largest angle error", opencv.angles.MaxAbs(), "deg");
+}
+
+// The hills station processed with the true calibration and with the recovered ones.
+void Hills(bench::Table* table) {
+  testing::TempDir dir;
+  const std::string exe = TS_TOPOSTATION_EXE, d = dir.path().string();
+  const auto run = [](const std::string& command) {
+    if (std::system((command + " > /dev/null").c_str()) != 0) {
+      std::fprintf(stderr, "failed: %s\n", command.c_str());
+      std::exit(1);
+    }
+  };
+  run(exe + " sim render --scene hills --out " + d + "/station --truth " + d + "/truth");
+  run(exe + " sim render --scene hills --calibration field --out " + d + "/field --truth " + d +
+      "/ft");
+  run(exe + " sim render --scene hills --calibration chessboard --out " + d + "/board --truth " +
+      d + "/bt");
+  const std::string stage = " --stage-from " + d + "/truth/calibration.yaml";
+  run(exe + " calibrate stereo --left '" + d + "/field/left/*.png' --right '" + d +
+      "/field/right/*.png' --control-field " + d + "/field/field.yaml --marks " + d +
+      "/field/marks.yaml --start " + d + "/field/design.yaml" + stage + " --out " + d +
+      "/field.yaml");
+  run(exe + " calibrate stereo --left '" + d + "/board/left/*.png' --right '" + d +
+      "/board/right/*.png' --chessboard 16x11 --square 0.07" + stage + " --out " + d +
+      "/board.yaml 2>/dev/null");
+  std::map<std::string, nlohmann::json> results;
+  for (const std::string& name : std::vector<std::string>{"truth/calibration", "field", "board"}) {
+    const std::string station = d + "/station-" + std::to_string(results.size());
+    std::filesystem::copy(d + "/station", station, std::filesystem::copy_options::recursive);
+    run(exe + " process " + station + " --calibration " + d + "/" + name + ".yaml");
+    run(exe + " evaluate " + station + " --truth " + d + "/truth");
+    results[name] = nlohmann::json::parse(std::ifstream(station + "/products/evaluation.json"));
+  }
+  const nlohmann::json& truth = results["truth/calibration"];
+  table->Add({"hills, true calibration: DEM RMSE", truth["dem_rmse_m"].get<double>(), "m", ""});
+  table->Add({"hills, true calibration: coverage within 30 m", truth["coverage_30m"].get<double>(),
+              "", ""});
+  for (const std::string& name : std::vector<std::string>{"field", "board"}) {
+    const double ratio =
+        results[name]["dem_rmse_m"].get<double>() / truth["dem_rmse_m"].get<double>();
+    const double coverage =
+        100 * (results[name]["coverage_30m"].get<double>() - truth["coverage_30m"].get<double>());
+    table->Add({"hills, " + name + " calibration: DEM RMSE / true-calibration RMSE", ratio, "",
+                "<= 1.10", ratio <= 1.10});
+    table->Add({"hills, " + name + " calibration: coverage within 30 m - true's", coverage,
+                "points", ">= -1", coverage >= -1.0});
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bench::Table table("bench_calibration: ours beside OpenCV and mrcal; the simulator's targets");
+  RealSet(&table);
+  Field(&table);
+  Boards(&table);
+  Hills(&table);
+  return table.Finish(argc, argv);
+}
