@@ -1,5 +1,6 @@
 #include "sim/calibration_views.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -19,11 +20,18 @@ constexpr float kBlack = 0.06f, kWhite = 0.8f, kBackground = 0.35f;
 
 // The board's radiance at a point of its plane: squares from one square before the first inner
 // corner to one after the last, a white margin of one square around them, a grey wall beyond.
-float BoardRadiance(const ChessboardOptions& b, double x, double y) {
+// A ChArUco board's squares come from its drawn image (nearest pixel).
+float BoardRadiance(const ChessboardOptions& b, const cv::Mat& charuco, double x, double y) {
   const double i = std::floor(x / b.square), j = std::floor(y / b.square);
   if (i < -2 || j < -2 || i > b.columns || j > b.rows) return kBackground;
   if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return kWhite;
-  return (static_cast<int64_t>(i + j) % 2 == 0) ? kBlack : kWhite;
+  if (charuco.empty()) return (static_cast<int64_t>(i + j) % 2 == 0) ? kBlack : kWhite;
+  const double per_square = static_cast<double>(charuco.cols) / (b.columns + 1);
+  const int u =
+      std::clamp(static_cast<int>((x / b.square + 1.0) * per_square), 0, charuco.cols - 1);
+  const int v =
+      std::clamp(static_cast<int>((y / b.square + 1.0) * per_square), 0, charuco.rows - 1);
+  return charuco.at<uchar>(v, u) > 127 ? kWhite : kBlack;
 }
 
 // A pose of the board in the left camera's frame, its centre at a random place in the view.
@@ -122,7 +130,8 @@ bool BoardSessionOptions::Check(std::string* why) const {
 }
 
 cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
-                        const ChessboardOptions& board, bool board_in_view, int supersampling) {
+                        const ChessboardOptions& board, bool board_in_view, int supersampling,
+                        const cv::Mat& charuco_image) {
   const CameraModel model(camera);
   const Eigen::Isometry3d board_from_camera = camera_from_board.inverse();
   const Eigen::Vector3d origin = board_from_camera.translation();
@@ -139,7 +148,8 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
             const Eigen::Vector2d pixel(x - 0.5 + (i + 0.5) / s, y - 0.5 + (j + 0.5) / s);
             const Eigen::Vector3d d = board_from_camera.linear() * model.RayFromPixel(pixel);
             const double t = -origin.z() / d.z();
-            sum += t > 0.0 ? BoardRadiance(board, origin.x() + t * d.x(), origin.y() + t * d.y())
+            sum += t > 0.0 ? BoardRadiance(board, charuco_image, origin.x() + t * d.x(),
+                                           origin.y() + t * d.y())
                            : kBackground;
           }
         radiance.at<float>(y, x) = static_cast<float>(sum / (s * s));
@@ -162,7 +172,7 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
     p.name = name;
     // A team holds the board where both cameras see all of it, except where a board running
     // off the frame is wanted: a few tries find such a pose.
-    const bool beyond = u(rng) < 0.125;
+    const bool beyond = u(rng) < o.beyond_share;
     for (int attempt = 0; attempt < 50; ++attempt) {
       p.left_from_board = RandomPlacement(rng, o, truth.left, beyond);
       if (beyond || (BoardInside(truth.left, p.left_from_board, o.Board()) &&
@@ -181,6 +191,8 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
   const StereoRig& truth = rig.truth.rig;
   const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   std::vector<BoardPlacement> session = PlanBoardSession(rig, seed, o);
+  // Fine enough that a sample never straddles two of the image's pixels' worth of a square.
+  const cv::Mat charuco = o.charuco ? DrawCharucoBoard(o.Charuco(), 200) : cv::Mat();
   for (size_t k = 0; k < session.size(); ++k) {
     BoardPlacement& p = session[k];
     for (Side side : {Side::kLeft, Side::kRight}) {
@@ -188,7 +200,7 @@ std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
       const CameraIntrinsics& camera = left ? truth.left : truth.right;
       cv::Mat radiance =
           RenderBoardView(camera, left ? p.left_from_board : right_from_left * p.left_from_board,
-                          o.Board(), p.board, o.supersampling);
+                          o.Board(), p.board, o.supersampling, charuco);
       if (p.blurred) cv::GaussianBlur(radiance, radiance, cv::Size(), 1.5);
       (left ? p.left : p.right) =
           ExposeImage(radiance, camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
@@ -219,14 +231,23 @@ Status WriteBoardSession(const SimRig& rig, uint64_t seed, const BoardSessionOpt
     placements.push_back(
         {{"name", p.name}, {"board", p.board}, {"blurred", p.blurred}, {"left_from_board", pose}});
   }
-  char board[32];
-  std::snprintf(board, sizeof(board), "%dx%d", o.columns, o.rows);
+  char board[64];
+  if (o.charuco)
+    std::snprintf(board, sizeof(board), "--charuco %dx%d --marker %g", o.columns + 1, o.rows + 1,
+                  o.marker);
+  else
+    std::snprintf(board, sizeof(board), "--chessboard %dx%d", o.columns, o.rows);
   const nlohmann::json description = {
-      {"board", {{"columns", o.columns}, {"rows", o.rows}, {"square_m", o.square_m}}},
+      {"board",
+       {{"columns", o.columns},
+        {"rows", o.rows},
+        {"square_m", o.square_m},
+        {"charuco", o.charuco},
+        {"marker", o.marker}}},
       {"placements", o.placements},
       {"calibrate", "topostation calibrate stereo --left '" + dir + "/left/*.png' --right '" + dir +
-                        "/right/*.png' --chessboard " + board + " --square " +
-                        std::to_string(o.square_m) + " --out CAL.yaml"}};
+                        "/right/*.png' " + board + " --square " + std::to_string(o.square_m) +
+                        " --out CAL.yaml"}};
   if (Status s = WriteFileAtomically((fs::path(dir) / "session.json").string(),
                                      description.dump(2) + "\n");
       !s)

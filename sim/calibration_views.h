@@ -1,6 +1,7 @@
 #pragma once
-// Calibration views of the simulated rig's true (imperfect) cameras: a chessboard held at many
-// poses and distances in front of the stereo pair, as a field team takes them. Each image is
+// Calibration views of the simulated rig's true (imperfect) cameras: a chessboard, or a ChArUco
+// board, held at many poses and distances in front of the stereo pair, as a field team takes
+// them. Each image is
 // rendered exactly through the true camera model (every sample's ray from its measured pixel,
 // camera_model.h, met with the board's plane), anti-aliased by supersampling, then exposed by
 // the sensor model with its noise. Some placements run partly out of a frame, some are blurred
@@ -12,6 +13,7 @@
 
 #include "core/options.h"
 #include "core/result.h"
+#include "processing/calibration/charuco.h"
 #include "processing/calibration/chessboard.h"
 #include "sim/sim_rig.h"
 
@@ -27,6 +29,12 @@ struct BoardSessionOptions {
   double min_distance_m = 2.0;
   double max_distance_m = 4.0;
   double max_tilt_deg = 50.0;
+  // A ChArUco board (charuco.h) of the same inner corners: its markers a share of a square.
+  bool charuco = false;
+  double marker = 0.75;
+  // Of the placements, boards held running off the frame (a ChArUco board's corners there
+  // still count).
+  double beyond_share = 0.125;
   double blurred_share = 0.1;  // of the placements, blurred by 1.5 px
   double empty_share = 0.05;   // of the placements, no board in view
   int supersampling = 4;       // per axis
@@ -40,6 +48,9 @@ struct BoardSessionOptions {
     v("min_distance_m", self.min_distance_m, {"nearest board", "m", 0.3, 100});
     v("max_distance_m", self.max_distance_m, {"farthest board", "m", 0.3, 100});
     v("max_tilt_deg", self.max_tilt_deg, {"board tilt from facing the rig, at most", "deg", 0, 70});
+    v("charuco", self.charuco, {"a ChArUco board instead of a chessboard"});
+    v("marker", self.marker, {"ChArUco marker side, of a square", "", 0.1, 0.99});
+    v("beyond_share", self.beyond_share, {"share of placements running off the frame", "", 0, 1});
     v("blurred_share", self.blurred_share, {"share of placements blurred", "", 0, 1});
     v("empty_share", self.empty_share, {"share of placements without a board", "", 0, 1});
     v("supersampling", self.supersampling, {"samples per pixel per axis", "", 1, 16});
@@ -47,6 +58,7 @@ struct BoardSessionOptions {
   }
   bool Check(std::string* why) const;
   ChessboardOptions Board() const { return {columns, rows, square_m}; }
+  CharucoOptions Charuco() const { return {Board(), marker}; }
 };
 
 struct BoardPlacement {
@@ -64,9 +76,11 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
 std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                                                const BoardSessionOptions& options);
 
-// One camera's view of the board: its radiance, before the sensor.
+// One camera's view of the board: its radiance, before the sensor. charuco_image: the ChArUco
+// board as DrawCharucoBoard draws it (empty: a chessboard).
 cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
-                        const ChessboardOptions& board, bool board_in_view, int supersampling);
+                        const ChessboardOptions& board, bool board_in_view, int supersampling,
+                        const cv::Mat& charuco_image = cv::Mat());
 
 // A rendered session written as a field team's camera would leave it, and its truth:
 //   DIR/left/NN.png, DIR/right/NN.png  the pairs (Mono8), NN from 01, views without a board too

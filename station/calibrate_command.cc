@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "processing/calibration/calibration_validation.h"
 #include "processing/calibration/camera_calibration.h"
+#include "processing/calibration/charuco.h"
 #include "processing/calibration/chessboard.h"
 #include "processing/calibration/field_calibration.h"
 #include "processing/io/atomic_file.h"
@@ -30,6 +31,8 @@ struct CalibrateArgs {
   std::string images, left, right;
   std::string board_size = "9x6";
   ChessboardOptions board;
+  std::string charuco_size;  // a ChArUco board instead: SQUARESxSQUARES
+  CharucoOptions charuco;
   CameraCalibrationOptions options;
   std::string stage_from;
   // A control field instead of a board: the field, the hand marks, the design calibration.
@@ -58,14 +61,22 @@ void ParseBoard(CalibrateArgs* args) {
                        args->board_size + "'");
   std::string why;
   if (!args->board.Check(&why)) throw CommandError("--chessboard: " + why);
+  if (args->charuco_size.empty()) return;
+  if (!ParseCharucoSize(args->charuco_size, &args->charuco))
+    throw CommandError("--charuco: expected SQUARESxSQUARES, e.g. 12x9, got '" +
+                       args->charuco_size + "'");
+  args->charuco.corners.square = args->board.square;
+  if (!args->charuco.Check(&why)) throw CommandError("--charuco: " + why);
 }
 
 // The board in every image, the placement its index in the list; an image without the board
-// is named in the log and skipped.
-TargetViews DetectBoards(const std::vector<std::string>& files, const ChessboardOptions& board,
+// (a ChArUco board: without six of its corners) is named in the log and skipped.
+TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateArgs& args,
                          std::vector<std::string>* skipped) {
+  const ChessboardOptions& board = args.board;
+  const bool charuco = !args.charuco_size.empty();
   TargetViews views;
-  views.target = ChessboardCorners(board);
+  views.target = ChessboardCorners(charuco ? args.charuco.corners : board);
   for (size_t i = 0; i < files.size(); ++i) {
     const std::string& file = files[i];
     const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
@@ -75,9 +86,19 @@ TargetViews DetectBoards(const std::vector<std::string>& files, const Chessboard
       throw CommandError(file + ": " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                          " pixels, the first image has " + std::to_string(views.width_px) + "x" +
                          std::to_string(views.height_px));
-    if (auto corners = DetectChessboard(grey, board)) {
-      views.AddFullView(std::filesystem::path(file).filename().string(), static_cast<int>(i),
-                        *corners);
+    const std::string name = std::filesystem::path(file).filename().string();
+    if (charuco) {
+      if (auto view = DetectCharuco(grey, args.charuco)) {
+        view->name = name;
+        view->placement = static_cast<int>(i);
+        views.views.push_back(std::move(*view));
+      } else {
+        skipped->push_back(file);
+        Log().warn("{}: fewer than 6 corners of the {} ChArUco board found; view skipped", file,
+                   args.charuco_size);
+      }
+    } else if (auto corners = DetectChessboard(grey, board)) {
+      views.AddFullView(name, static_cast<int>(i), *corners);
     } else {
       skipped->push_back(file);
       Log().warn("{}: no {}x{} chessboard found; view skipped", file, board.columns, board.rows);
@@ -243,7 +264,7 @@ Result<CameraCalibration> CalibrateCameraFromBoards(const CalibrateArgs& args,
                                                     const std::vector<std::string>& files,
                                                     std::vector<std::string>* skipped,
                                                     TargetViews* detected) {
-  const TargetViews& views = *detected = DetectBoards(files, args.board, skipped);
+  const TargetViews& views = *detected = DetectBoards(files, args, skipped);
   Result<CameraCalibration> c = CalibrateCamera(views, args.options);
   if (!c)
     return Error{c.error() + " (" + std::to_string(views.views.size()) + " of " +
@@ -332,8 +353,8 @@ void RunCalibrateStereo(CalibrateArgs args) {
     s = CalibrateStereoAtField(in.field, in.views, args.options, args.field, &field);
     if (s) left = field.views[0], right = field.views[1];
   } else {
-    left = DetectBoards(left_files, args.board, &skipped);
-    right = DetectBoards(right_files, args.board, &skipped);
+    left = DetectBoards(left_files, args, &skipped);
+    right = DetectBoards(right_files, args, &skipped);
     s = CalibrateStereo(left, right, args.options);
     if (!s)
       s = Error{s.error() + " (the board found in " + std::to_string(left.views.size()) +
@@ -459,9 +480,17 @@ void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
       cmd->add_option("--chessboard", args->board_size,
                       "inner corners COLUMNSxROWS (default " + args->board_size + ")");
   AddDeclaredOption(cmd, "--square", args->board, "square");
+  CLI::Option* charuco =
+      cmd->add_option("--charuco", args->charuco_size,
+                      "a ChArUco board (5x5 markers) of SQUARESxSQUARES instead; partial views "
+                      "count")
+          ->excludes(board);
+  cmd->add_option("--marker", args->charuco.marker,
+                  "with --charuco: a marker's side, of a square (default 0.75)");
   cmd->add_option("--control-field", args->control_field,
                   "calibrate at a control field instead: its targets (FIELD.yaml)")
-      ->excludes(board);
+      ->excludes(board)
+      ->excludes(charuco);
   cmd->add_option("--marks", args->marks,
                   "with --control-field: targets measured by hand (MARKS.yaml), 4 or more in "
                   "each stage pose's left or right image");

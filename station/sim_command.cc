@@ -48,20 +48,26 @@ struct RenderArgs {
 };
 
 // Calibration views of the station's true rig (the same rig as `sim render` of this seed):
-// chessboard placements, or stage poses at a control field.
+// chessboard or ChArUco placements, or stage poses at a control field.
 void RunRenderCalibration(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto station = Build(args.scene);
   const uint64_t seed = station->scene.seed;
-  const bool board = args.calibration == "chessboard";
-  const Status s =
-      board
-          ? sim::WriteBoardSession(station->rig, seed, args.board, args.out, args.scene.truth_dir)
-          : sim::WriteFieldSession(station->rig, seed, args.field, args.out, args.scene.truth_dir);
+  const bool board = args.calibration != "field";
+  sim::BoardSessionOptions board_options = args.board;
+  if (args.calibration == "charuco") {
+    // A ChArUco session puts boards off the frame's edges on purpose: their corners count.
+    board_options.charuco = true;
+    board_options.beyond_share = 0.4;
+  }
+  const Status s = board ? sim::WriteBoardSession(station->rig, seed, board_options, args.out,
+                                                  args.scene.truth_dir)
+                         : sim::WriteFieldSession(station->rig, seed, args.field, args.out,
+                                                  args.scene.truth_dir);
   if (!s) throw CommandError(s.error());
   const int views = board ? args.board.placements : args.field.pans * args.field.tilts;
   std::printf("calibration session %s (%d %s, seed %llu) rendered in %.1f s; truth in %s\n",
-              args.out.c_str(), views, board ? "chessboard placements" : "stage poses at a field",
+              args.out.c_str(), views, board ? "board placements" : "stage poses at a field",
               static_cast<unsigned long long>(seed),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
               args.scene.truth_dir.c_str());
@@ -144,10 +150,11 @@ void AddSimCommand(CLI::App& app) {
               "no poses higher up where the terrain goes on above a view");
   AddDeclaredOption(r, "--range", render->render, "write_range_images");
   r->add_option("--calibration", render->calibration,
-                "render a calibration session of the rig instead of a station: chessboard, or "
-                "field (a control field: field.yaml, marks.yaml, design.yaml); left/ and right/ "
-                "images, session.json; the true calibration in --truth")
-      ->check(CLI::IsMember({"chessboard", "field"}));
+                "render a calibration session of the rig instead of a station: chessboard, "
+                "charuco (boards off the frame's edges too), or field (a control field: "
+                "field.yaml, marks.yaml, design.yaml); left/ and right/ images, session.json; "
+                "the true calibration in --truth")
+      ->check(CLI::IsMember({"chessboard", "charuco", "field"}));
   AddDeclaredOption(r, "--placements", render->board, "placements");
   AddDeclaredOption(r, "--board-columns", render->board, "columns");
   AddDeclaredOption(r, "--board-rows", render->board, "rows");

@@ -78,6 +78,35 @@ TEST(CalibrateCommand, SimulatedChessboardSessionGivesTheTrueRig) {
   EXPECT_TRUE(written->stereo_precision.known);
 }
 
+// A ChArUco session of the simulated rig, boards off the frame's edges included: the command
+// the session names calibrates the pair, the principal distance and baseline near the truth.
+TEST(CalibrateCommand, SimulatedCharucoSessionGivesTheTrueRig) {
+  testing::TempDir dir;
+  const std::string views = dir / "views", truth = dir / "truth", out = dir / "cal.yaml";
+  const auto render = RunCommand(kExe + " sim render --calibration charuco --seed 5 " +
+                                 "--placements 12 --out " + views + " --truth " + truth + " 2>&1");
+  ASSERT_EQ(render.exit_code, 0) << render.out;
+  const auto session = nlohmann::json::parse(std::ifstream(views + "/session.json"));
+  EXPECT_TRUE(session["board"]["charuco"].get<bool>());
+  EXPECT_NE(session["calibrate"].get<std::string>().find("--charuco 17x12"), std::string::npos);
+  const auto r = RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' --right '" +
+                            views + "/right/*.png' --charuco 17x12 --square 0.07 --out " + out +
+                            " --json 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const Result<Calibration> true_rig = LoadCalibrationYaml(truth + "/calibration.yaml");
+  ASSERT_TRUE(true_rig.ok()) << true_rig.error();
+  EXPECT_NEAR(j["left"]["fy"].get<double>() / true_rig->rig.left.principal_distance_px, 1.0, 1e-3);
+  EXPECT_NEAR(j["stereo"]["baseline"].get<double>(), true_rig->rig.baseline_m, 5e-4);
+  EXPECT_GT(j["left"]["views_used"].get<int>(), 8) << "partial boards count";
+  const auto bad =
+      RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' " + "--right '" +
+                 views + "/right/*.png' --charuco 2x12 --out " + (dir / "bad.yaml") + " 2>&1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("--charuco: expected SQUARESxSQUARES"), std::string::npos) << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.yaml"));
+}
+
 // A control field session of the simulated rig (seed 003's calibration range): hand marks in
 // the left images only, the rest found; the rig within four sigmas of the truth, one camera too.
 TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRig) {
