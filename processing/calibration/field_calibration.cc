@@ -97,14 +97,17 @@ struct Prediction {
   double radius_px;
 };
 
-// Every target in front of the camera and in its frame.
-std::vector<Prediction> PredictTargets(const ControlField& field, const TargetViews& target,
+// Every target in front of the camera and in its frame, the points where they are thought to
+// be (the surveyed ones, then the adjusted ones: a target disturbed since the survey is found
+// where it is).
+std::vector<Prediction> PredictTargets(const ControlField& field,
+                                       const std::vector<Eigen::Vector3d>& points,
                                        const CameraIntrinsics& camera,
                                        const Eigen::Isometry3d& camera_from_field) {
   const CameraModel model(camera);
   std::vector<Prediction> predictions;
   for (size_t i = 0; i < field.targets.size(); ++i) {
-    const Eigen::Vector3d p = camera_from_field * target.target[i];
+    const Eigen::Vector3d p = camera_from_field * points[i];
     Eigen::Vector2d pixel;
     if (p.z() <= 0.0 || !model.Project(p, &pixel) || !model.InImage(pixel)) continue;
     predictions.push_back(
@@ -125,13 +128,13 @@ bool SharesSearch(const std::vector<Prediction>& predictions, size_t k, double s
 }
 
 // Every target predicted in the frame, sought near its prediction.
-TargetView MeasureView(const ControlField& field, const TargetViews& target,
+TargetView MeasureView(const ControlField& field, const std::vector<Eigen::Vector3d>& points,
                        const FieldImage& image, int placement, const CameraIntrinsics& camera,
                        const Eigen::Isometry3d& camera_from_field, double search_px,
                        const CircularTargetOptions& o, std::vector<double>* sigmas) {
   TargetView view{image.name, placement, {}, {}};
   const std::vector<Prediction> predictions =
-      PredictTargets(field, target, camera, camera_from_field);
+      PredictTargets(field, points, camera, camera_from_field);
   for (size_t k = 0; k < predictions.size(); ++k) {
     if (SharesSearch(predictions, k, search_px)) continue;
     const Prediction& p = predictions[k];
@@ -151,16 +154,19 @@ std::vector<TargetViews> MeasureViews(const ControlField& field, const Eigen::Ve
                                       const FieldViews& views,
                                       const std::vector<CameraIntrinsics>& cameras,
                                       const std::vector<std::optional<Eigen::Isometry3d>>& poses,
-                                      const Eigen::Isometry3d& second_from_first, double search_px,
-                                      const FieldCalibrationOptions& o, FieldReport* report) {
+                                      const Eigen::Isometry3d& second_from_first,
+                                      const std::vector<Eigen::Vector3d>* adjusted_points,
+                                      double search_px, const FieldCalibrationOptions& o,
+                                      FieldReport* report) {
   std::vector<TargetViews> measured;
   std::vector<double> sigmas;
   for (size_t c = 0; c < views.images.size(); ++c) {
     TargetViews& camera = measured.emplace_back(EmptyViews(field, centre, cameras[c]));
+    const std::vector<Eigen::Vector3d>& points = adjusted_points ? *adjusted_points : camera.target;
     for (size_t k = 0; k < poses.size(); ++k) {
       if (!poses[k]) continue;
       const Eigen::Isometry3d pose = c == 0 ? *poses[k] : second_from_first * *poses[k];
-      TargetView view = MeasureView(field, camera, views.images[c][k], static_cast<int>(k),
+      TargetView view = MeasureView(field, points, views.images[c][k], static_cast<int>(k),
                                     cameras[c], pose, search_px, o.target, &sigmas);
       if (view.ids.size() >= 6) camera.views.push_back(std::move(view));
     }
@@ -253,13 +259,13 @@ Result<CameraCalibration> CalibrateCameraAtField(const ControlField& field, cons
   const Eigen::Vector3d centre = Centroid(field);
   auto poses = OrientPlacements(field, centre, views, o, &report->warnings);
   const Eigen::Isometry3d none = Eigen::Isometry3d::Identity();
-  std::vector<TargetViews> measured =
-      MeasureViews(field, centre, views, views.start, poses, none, o.first_search_px, o, report);
+  std::vector<TargetViews> measured = MeasureViews(field, centre, views, views.start, poses, none,
+                                                   nullptr, o.first_search_px, o, report);
   const Result<CameraCalibration> first =
       CalibrateCamera(measured[0], PredictionModel(calibration), &views.start[0]);
   if (!first) return first;
   poses = AdjustedPoses(poses.size(), {&*first}, none, measured);
-  measured = MeasureViews(field, centre, views, {first->intrinsics}, poses, none,
+  measured = MeasureViews(field, centre, views, {first->intrinsics}, poses, none, &first->target,
                           o.refine_search_px, o, report);
   Result<CameraCalibration> final = CalibrateCamera(measured[0], calibration, &first->intrinsics);
   if (final) ReportTargets(field, centre, measured, *final, o, report);
@@ -275,15 +281,16 @@ Result<StereoCalibration> CalibrateStereoAtField(const ControlField& field, cons
   const Eigen::Vector3d centre = Centroid(field);
   auto poses = OrientPlacements(field, centre, views, o, &report->warnings);
   std::vector<TargetViews> measured =
-      MeasureViews(field, centre, views, views.start, poses, views.second_from_first,
+      MeasureViews(field, centre, views, views.start, poses, views.second_from_first, nullptr,
                    o.first_search_px, o, report);
   const Result<StereoCalibration> first = CalibrateStereo(
       measured[0], measured[1], PredictionModel(calibration), &views.start[0], &views.start[1]);
   if (!first) return first;
   poses =
       AdjustedPoses(poses.size(), {&first->left, &first->right}, first->right_from_left, measured);
-  measured = MeasureViews(field, centre, views, {first->left.intrinsics, first->right.intrinsics},
-                          poses, first->right_from_left, o.refine_search_px, o, report);
+  measured =
+      MeasureViews(field, centre, views, {first->left.intrinsics, first->right.intrinsics}, poses,
+                   first->right_from_left, &first->left.target, o.refine_search_px, o, report);
   Result<StereoCalibration> final = CalibrateStereo(
       measured[0], measured[1], calibration, &first->left.intrinsics, &first->right.intrinsics);
   if (final) ReportTargets(field, centre, measured, final->left, o, report);
