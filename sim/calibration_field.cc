@@ -7,20 +7,19 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
+#include "processing/geometry/rotation.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
+#include "sim/calibration_views.h"
 #include "sim/noise.h"
 
 namespace ts::sim {
 namespace {
 
-constexpr float kBlack = 0.06f, kWhite = 0.8f, kBackground = 0.35f;
 // The black square around a disc, in disc diameters (half its side).
 constexpr double kSurroundHalfSide = 1.25;
 // Targets closer than this (seen from the pillar) would share a search window.
 constexpr double kMinSeparationDeg = 2.0;
-
-double Rad(double deg) { return deg * M_PI / 180.0; }
 
 // Targets in the station frame L: azimuth clockwise from +Y, elevation, distance.
 std::vector<Eigen::Vector3d> PlaceTargets(std::mt19937_64& rng, const FieldSessionOptions& o) {
@@ -28,13 +27,13 @@ std::vector<Eigen::Vector3d> PlaceTargets(std::mt19937_64& rng, const FieldSessi
   std::vector<Eigen::Vector3d> directions, points;
   for (int attempt = 0; attempt < 100 * o.targets && static_cast<int>(points.size()) < o.targets;
        ++attempt) {
-    const double azimuth = Rad(o.azimuth_span_deg * (u(rng) - 0.5));
-    const double elevation = Rad(o.elevation_span_deg * (u(rng) - 0.5));
+    const double azimuth = RadFromDeg(o.azimuth_span_deg * (u(rng) - 0.5));
+    const double elevation = RadFromDeg(o.elevation_span_deg * (u(rng) - 0.5));
     const Eigen::Vector3d d(std::sin(azimuth) * std::cos(elevation),
                             std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
     bool free = true;
     for (const Eigen::Vector3d& other : directions)
-      free = free && d.dot(other) < std::cos(Rad(kMinSeparationDeg));
+      free = free && d.dot(other) < std::cos(RadFromDeg(kMinSeparationDeg));
     if (!free) continue;
     directions.push_back(d);
     points.push_back(d * (o.min_distance_m + (o.max_distance_m - o.min_distance_m) * u(rng)));
@@ -48,14 +47,14 @@ struct TargetInCamera {
   double diameter;
   float Radiance(const Eigen::Vector3d& ray) const {
     const double denominator = ray.dot(normal);
-    if (std::abs(denominator) < 1e-12) return kBackground;
+    if (std::abs(denominator) < 1e-12) return kTargetBackground;
     const double t = centre.dot(normal) / denominator;
-    if (t <= 0.0) return kBackground;
+    if (t <= 0.0) return kTargetBackground;
     const Eigen::Vector3d local = t * ray - centre;
     const double x = local.dot(across), y = local.dot(up);
-    if (x * x + y * y <= 0.25 * diameter * diameter) return kWhite;
+    if (x * x + y * y <= 0.25 * diameter * diameter) return kTargetWhite;
     const double half = kSurroundHalfSide * diameter;
-    return std::abs(x) <= half && std::abs(y) <= half ? kBlack : kBackground;
+    return std::abs(x) <= half && std::abs(y) <= half ? kTargetBlack : kTargetBackground;
   }
 };
 
@@ -149,7 +148,8 @@ FieldSession PlanFieldSession(const SimRig& rig, uint64_t seed, const FieldSessi
   std::normal_distribution<double> noise(0.0, 1.0);
   FieldSession s;
   // The field's own frame: survey coordinates, turned against the station's.
-  s.field_from_station.linear() = Eigen::AngleAxisd(Rad(35.0), Eigen::Vector3d::UnitZ()).matrix();
+  s.field_from_station.linear() =
+      Eigen::AngleAxisd(RadFromDeg(35.0), Eigen::Vector3d::UnitZ()).matrix();
   s.field_from_station.translation() = Eigen::Vector3d(512.0, 208.0, 31.0);
   const std::vector<Eigen::Vector3d> points = PlaceTargets(rng, o);
   for (size_t i = 0; i < points.size(); ++i) {
@@ -177,7 +177,7 @@ cv::Mat RenderFieldView(const SimRig& rig, const FieldSession& s, Side side, con
   const CameraModel model(camera);
   const Eigen::Isometry3d camera_from_station = CameraFromStation(rig, side, pose);
   const Eigen::Isometry3d station_from_field = s.field_from_station.inverse();
-  cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kBackground));
+  cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kTargetBackground));
   const int n = supersampling;
   cv::parallel_for_(
       cv::Range(0, static_cast<int>(s.truth.targets.size())), [&](const cv::Range& r) {
@@ -199,6 +199,14 @@ cv::Mat RenderFieldView(const SimRig& rig, const FieldSession& s, Side side, con
   return radiance;
 }
 
+cv::Mat ExposeFieldView(const SimRig& rig, const FieldSession& s, Side side, int pose,
+                        uint64_t seed, const FieldSessionOptions& o) {
+  const CameraIntrinsics& camera = side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right;
+  return ExposeImage(RenderFieldView(rig, s, side, s.poses[pose], o.supersampling), camera,
+                     rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
+                     Hash(seed, pose, 0xF1E1D, side == Side::kLeft));
+}
+
 Status WriteFieldSession(const SimRig& rig, uint64_t seed, const FieldSessionOptions& o,
                          const std::string& dir, const std::string& truth_dir) {
   namespace fs = std::filesystem;
@@ -213,11 +221,7 @@ Status WriteFieldSession(const SimRig& rig, uint64_t seed, const FieldSessionOpt
     char name[32];
     std::snprintf(name, sizeof(name), "%02d.png", static_cast<int>(k) + 1);
     for (Side side : {Side::kLeft, Side::kRight}) {
-      const cv::Mat radiance = RenderFieldView(rig, s, side, s.poses[k], o.supersampling);
-      const cv::Mat image =
-          ExposeImage(radiance, side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right,
-                      rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
-                      Hash(seed, static_cast<int64_t>(k), 0xF1E1D, side == Side::kLeft));
+      const cv::Mat image = ExposeFieldView(rig, s, side, static_cast<int>(k), seed, o);
       const fs::path file = fs::path(dir) / SideName(side) / name;
       if (!cv::imwrite(file.string(), image)) return Error{file.string() + ": cannot write"};
     }

@@ -79,6 +79,11 @@ FieldSession PlanFieldSession(const SimRig& rig, uint64_t seed, const FieldSessi
 cv::Mat RenderFieldView(const SimRig& rig, const FieldSession& session, Side side,
                         const StagePose& pose, int supersampling);
 
+// One camera's image of the field at stage pose `pose`, exposed by the sensor model (Mono8), its
+// noise fixed by the seed: what WriteFieldSession writes.
+cv::Mat ExposeFieldView(const SimRig& rig, const FieldSession& session, Side side, int pose,
+                        uint64_t seed, const FieldSessionOptions& options);
+
 // A session written as the team leaves it, and its truth:
 //   DIR/left/NN.png, DIR/right/NN.png   the pairs (Mono8), NN from 01
 //   DIR/field.yaml                      the surveyed field (control_field_file.h)

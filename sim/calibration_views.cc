@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "processing/geometry/rotation.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "sim/noise.h"
@@ -16,22 +17,20 @@
 namespace ts::sim {
 namespace {
 
-constexpr float kBlack = 0.06f, kWhite = 0.8f, kBackground = 0.35f;
-
 // The board's radiance at a point of its plane: squares from one square before the first inner
 // corner to one after the last, a white margin of one square around them, a grey wall beyond.
 // A ChArUco board's squares come from its drawn image (nearest pixel).
 float BoardRadiance(const ChessboardOptions& b, const cv::Mat& charuco, double x, double y) {
   const double i = std::floor(x / b.square), j = std::floor(y / b.square);
-  if (i < -2 || j < -2 || i > b.columns || j > b.rows) return kBackground;
-  if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return kWhite;
-  if (charuco.empty()) return (static_cast<int64_t>(i + j) % 2 == 0) ? kBlack : kWhite;
+  if (i < -2 || j < -2 || i > b.columns || j > b.rows) return kTargetBackground;
+  if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return kTargetWhite;
+  if (charuco.empty()) return (static_cast<int64_t>(i + j) % 2 == 0) ? kTargetBlack : kTargetWhite;
   const double per_square = static_cast<double>(charuco.cols) / (b.columns + 1);
   const int u =
       std::clamp(static_cast<int>((x / b.square + 1.0) * per_square), 0, charuco.cols - 1);
   const int v =
       std::clamp(static_cast<int>((y / b.square + 1.0) * per_square), 0, charuco.rows - 1);
-  return charuco.at<uchar>(v, u) > 127 ? kWhite : kBlack;
+  return charuco.at<uchar>(v, u) > 127 ? kTargetWhite : kTargetBlack;
 }
 
 // A pose of the board in the left camera's frame, its centre at a random place in the view.
@@ -52,7 +51,7 @@ Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOption
   const double px = 0.5 * camera.width_px + room_x * (2 * u(rng) - 1);
   const double py = 0.5 * camera.height_px + room_y * (2 * u(rng) - 1);
   const Eigen::Vector3d centre = CameraModel(camera).RayFromPixel({px, py}).normalized() * distance;
-  const double tilt = o.max_tilt_deg * M_PI / 180.0;
+  const double tilt = RadFromDeg(o.max_tilt_deg);
   const Eigen::Matrix3d facing =
       (Eigen::AngleAxisd(tilt * (2 * u(rng) - 1), Eigen::Vector3d::UnitX()) *
        Eigen::AngleAxisd(tilt * (2 * u(rng) - 1), Eigen::Vector3d::UnitY()) *
@@ -135,7 +134,7 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
   const CameraModel model(camera);
   const Eigen::Isometry3d board_from_camera = camera_from_board.inverse();
   const Eigen::Vector3d origin = board_from_camera.translation();
-  cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kBackground));
+  cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kTargetBackground));
   if (!board_in_view) return radiance;
   const cv::Rect extent = BoardExtent(model, camera_from_board, board);
   const int s = supersampling;
@@ -150,7 +149,7 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
             const double t = -origin.z() / d.z();
             sum += t > 0.0 ? BoardRadiance(board, charuco_image, origin.x() + t * d.x(),
                                            origin.y() + t * d.y())
-                           : kBackground;
+                           : kTargetBackground;
           }
         radiance.at<float>(y, x) = static_cast<float>(sum / (s * s));
       }

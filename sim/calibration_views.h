@@ -19,6 +19,10 @@
 
 namespace ts::sim {
 
+// The radiance of printed calibration targets (boards, a field's targets): black ink, white
+// paper, and the grey wall behind them.
+inline constexpr float kTargetBlack = 0.06f, kTargetWhite = 0.8f, kTargetBackground = 0.35f;
+
 struct BoardSessionOptions {
   // A session that determines the rig: many placements of a board with many corners, tilted
   // strongly (the principal point comes from the tilts), near enough to fill much of the frame.
@@ -31,7 +35,7 @@ struct BoardSessionOptions {
   double max_tilt_deg = 50.0;
   // A ChArUco board (charuco.h) of the same inner corners: its markers a share of a square.
   bool charuco = false;
-  double marker = 0.75;
+  double marker = CharucoOptions{}.marker;
   // Of the placements, boards held running off the frame (a ChArUco board's corners there
   // still count).
   double beyond_share = 0.125;

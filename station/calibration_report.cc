@@ -1,5 +1,6 @@
 #include "station/calibration_report.h"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,12 +16,6 @@ namespace {
 const cv::Scalar kWhite(255, 255, 255), kBlue(200, 80, 0), kRed(0, 0, 210), kInk(30, 30, 30);
 constexpr double kFrameScale = 0.5;  // frame pictures at half the image's size
 constexpr int kMargin = 60;
-
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
 
 cv::Mat FrameCanvas(const CameraIntrinsics& c) {
   cv::Mat image(static_cast<int>(c.height_px * kFrameScale) + 2 * kMargin,
@@ -47,7 +42,7 @@ cv::Mat ResidualVectors(const std::string& name, const CameraCalibration& c) {
     cv::line(image, from, to, r.rejected ? kRed : kBlue, 1, cv::LINE_AA);
     cv::circle(image, from, 1, kInk, cv::FILLED);
   }
-  DrawText(image, name + ": residuals x" + Format("%.0f", magnify) + ", red: rejected",
+  DrawText(image, name + ": residuals x" + fmt::format("{:.0f}", magnify) + ", red: rejected",
            cv::Point(kMargin, kMargin - 20));
   return image;
 }
@@ -83,7 +78,7 @@ cv::Mat Histogram(const std::string& name, const CameraCalibration& c) {
   cv::polylines(image, curve, false, kRed, 2, cv::LINE_AA);
   DrawText(image,
            name + ": x and y residuals against the normal curve, sigma0 " +
-               Format("%.3f", c.sigma0_px) + " px",
+               fmt::format("{:.3f}", c.sigma0_px) + " px",
            cv::Point(80, 30));
   return image;
 }
@@ -121,7 +116,7 @@ cv::Mat Coverage(const std::string& name, const CameraCalibration& c) {
     }
   DrawText(image,
            name + ": observations per cell (red: none); edges " +
-               Format("%.0f", 100.0 * f.border_share) + " % covered",
+               fmt::format("{:.0f}", 100.0 * f.border_share) + " % covered",
            cv::Point(kMargin, kMargin - 20));
   return image;
 }
@@ -149,12 +144,13 @@ cv::Mat Uncertainty(const CalibrationValidation& v, const CameraIntrinsics& came
         const cv::Scalar fill = std::isfinite(s) ? cv::Scalar(255 * (1 - t), 255 * (1 - t), 255)
                                                  : cv::Scalar(200, 200, 200);
         cv::rectangle(image, a, b, fill, cv::FILLED);
-        if (std::isfinite(s)) DrawText(image, Format("%.2f", s), a + cv::Point(4, 26), 0.35);
+        if (std::isfinite(s)) DrawText(image, fmt::format("{:.2f}", s), a + cv::Point(4, 26), 0.35);
       }
-    DrawText(image,
-             (m.distance_m > 0 ? "at " + Format("%.0f", m.distance_m) + " m: " : std::string()) +
-                 "sigma (px), at most " + Format("%.3f", m.max_sigma_px),
-             origin + cv::Point(0, -20));
+    DrawText(
+        image,
+        (m.distance_m > 0 ? "at " + fmt::format("{:.0f}", m.distance_m) + " m: " : std::string()) +
+            "sigma (px), at most " + fmt::format("{:.3f}", m.max_sigma_px),
+        origin + cv::Point(0, -20));
   }
   DrawText(image, v.verdict, cv::Point(kMargin, image.rows - 20), 0.6);
   return image;

@@ -1,5 +1,6 @@
 #include "processing/calibration/calibration_validation.h"
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
@@ -13,12 +14,6 @@ namespace {
 
 constexpr int kN = kIntrinsicCount;
 using Map = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
-
-std::string Fixed(double value, int decimals) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
-  return text;
-}
 
 std::vector<Eigen::Vector2d> Grid(const CameraIntrinsics& c, const ValidationOptions& o) {
   std::vector<Eigen::Vector2d> grid;
@@ -189,9 +184,9 @@ std::set<int> Placements(const std::vector<const TargetViews*>& cameras) {
   return placements;
 }
 
-void Judge(const CalibrationValidation& v, const FrameCoverage& coverage,
-           const CameraCalibrationOptions& options, const ValidationOptions& o,
-           CalibrationValidation* out) {
+void Judge(const FrameCoverage& coverage, const CameraCalibrationOptions& options,
+           const ValidationOptions& o, CalibrationValidation* out) {
+  const CalibrationValidation& v = *out;
   const MapValidation* worst = &v.maps[0];
   const MapValidation* least_consistent = &v.maps[0];
   for (const MapValidation& m : v.maps) {
@@ -199,32 +194,34 @@ void Judge(const CalibrationValidation& v, const FrameCoverage& coverage,
     if (m.consistency > least_consistent->consistency) least_consistent = &m;
   }
   const auto where = [](const MapValidation& m) {
-    return m.distance_m > 0.0 ? " at " + Fixed(m.distance_m, 0) + " m" : std::string();
+    return m.distance_m > 0.0 ? " at " + fmt::format("{:.0f}", m.distance_m) + " m" : std::string();
   };
   if (least_consistent->split && least_consistent->consistency > o.max_consistency) {
     out->verdict = "overfitted";
     out->reason = "the two halves of the views differ by up to " +
-                  Fixed(least_consistent->max_difference_px, 2) + " px" + where(*least_consistent) +
-                  ", " + Fixed(least_consistent->consistency, 1) +
+                  fmt::format("{:.2f}", least_consistent->max_difference_px) + " px" +
+                  where(*least_consistent) + ", " +
+                  fmt::format("{:.1f}", least_consistent->consistency) +
                   " times what their sigmas allow: the model follows the noise or an error it "
                   "does not know (a board that is not flat, blurred or misidentified views)";
   } else if (worst->max_sigma_px > o.good_uncertainty_px) {
     const bool edges = coverage.border_share < options.warn_border_coverage;
     out->verdict = edges ? "needs views at the edges" : "needs more views";
-    out->reason = "the map is uncertain to " + Fixed(worst->max_sigma_px, 2) + " px" +
-                  where(*worst) + " (" + Fixed(worst->median_sigma_px, 2) +
-                  " px at the median), more than " + Fixed(o.good_uncertainty_px, 2) + " px" +
-                  (edges ? "; only " + Fixed(100.0 * coverage.border_share, 0) +
+    out->reason = "the map is uncertain to " + fmt::format("{:.2f}", worst->max_sigma_px) + " px" +
+                  where(*worst) + " (" + fmt::format("{:.2f}", worst->median_sigma_px) +
+                  " px at the median), more than " + fmt::format("{:.2f}", o.good_uncertainty_px) +
+                  " px" +
+                  (edges ? "; only " + fmt::format("{:.0f}", 100.0 * coverage.border_share) +
                                " % of the cells along the frame's edges hold observations"
                          : std::string());
   } else {
     out->verdict = "good";
-    out->reason = "the map is known within " + Fixed(worst->max_sigma_px, 3) + " px " +
+    out->reason = "the map is known within " + fmt::format("{:.3f}", worst->max_sigma_px) + " px " +
                   (worst->distance_m > 0.0 ? "wherever both cameras see" : "over the frame") +
                   where(*worst);
     if (least_consistent->split)
       out->reason += "; the two halves of the views agree within " +
-                     Fixed(least_consistent->consistency, 1) + " of their sigmas";
+                     fmt::format("{:.1f}", least_consistent->consistency) + " of their sigmas";
   }
   if (!v.split_note.empty()) out->reason += " (" + v.split_note + ")";
 }
@@ -245,9 +242,9 @@ CalibrationValidation ValidateStereo(const StereoCalibration& full, const Target
                                 &full.left.intrinsics, &full.right.intrinsics);
   for (int h = 0; h < 2; ++h)
     if (!halves[h]) v.split_note = "a half of the views alone: " + halves[h].error();
+  const Eigen::VectorXd p = StereoParameters(full);
   for (double d : {o.near_m, o.far_m}) {
     const Map map = StereoMap(full.left.intrinsics, v.grid, d);
-    const Eigen::VectorXd p = StereoParameters(full);
     MapValidation m = Predicted(MapCovariance(map, p, full.joint_covariance, nullptr), d);
     if (v.split_note.empty()) {
       const Eigen::VectorXd pa = StereoParameters(*halves[0]), pb = StereoParameters(*halves[1]);
@@ -258,7 +255,7 @@ CalibrationValidation ValidateStereo(const StereoCalibration& full, const Target
   }
   FrameCoverage coverage = full.left.coverage;
   if (full.right.coverage.border_share < coverage.border_share) coverage = full.right.coverage;
-  Judge(v, coverage, options, o, &v);
+  Judge(coverage, options, o, &v);
   return v;
 }
 
@@ -274,8 +271,7 @@ CalibrationValidation ValidateCamera(const CameraCalibration& full, const Target
     const IntrinsicVector p = c.intrinsics.ToParameters();
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(p.data(), kN));
   };
-  const Eigen::MatrixXd covariance = full.covariance;
-  MapValidation m = Predicted(MapCovariance(map, parameters(full), covariance, &free), 0.0);
+  MapValidation m = Predicted(MapCovariance(map, parameters(full), full.covariance, &free), 0.0);
   const std::set<int> placements = Placements({&views});
   Result<CameraCalibration> halves[2] = {Error{""}, Error{""}};
   for (int h = 0; h < 2; ++h)
@@ -288,7 +284,7 @@ CalibrationValidation ValidateCamera(const CameraCalibration& full, const Target
             MapCovariance(map, pb, halves[1]->covariance, &free), &free, &m);
   }
   v.maps.push_back(std::move(m));
-  Judge(v, full.coverage, options, o, &v);
+  Judge(full.coverage, options, o, &v);
   return v;
 }
 

@@ -1,5 +1,6 @@
 #include "processing/calibration/camera_calibration.h"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,12 +22,6 @@ std::array<bool, kN> HeldTerms(const CameraCalibrationOptions& o) {
   return held;
 }
 
-std::string Fixed(double value, int decimals) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
-  return text;
-}
-
 // The adjustment from its starting point, the insignificant terms fixed, then the fit judged.
 Result<AdjustmentPrecision> Adjust(TargetAdjustment* a, const CameraCalibrationOptions& o,
                                    std::vector<std::vector<std::string>>* fixed_insignificant) {
@@ -42,9 +37,9 @@ Result<AdjustmentPrecision> Adjust(TargetAdjustment* a, const CameraCalibrationO
   }
   if (!precision) return precision;
   if (precision->sigma0_px > o.max_sigma0_ratio * o.corner_sigma_px)
-    return Error{"the adjustment does not fit the views (sigma0 " + Fixed(precision->sigma0_px, 3) +
-                 " px against corners good to " + Fixed(o.corner_sigma_px, 2) +
-                 " px): is the board size right?"};
+    return Error{"the adjustment does not fit the views (sigma0 " +
+                 fmt::format("{:.3f}", precision->sigma0_px) + " px against corners good to " +
+                 fmt::format("{:.2f}", o.corner_sigma_px) + " px): is the board size right?"};
   if (!precision->determined)
     return Error{
         "the views do not determine every free parameter (the normal matrix is singular): add "
@@ -66,7 +61,7 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
       if (j > i && std::abs(r.correlation(i, j)) > 0.9)
         r.high_correlations.push_back(std::string(CameraIntrinsics::kParameterNames[i]) + " / " +
                                       CameraIntrinsics::kParameterNames[j] + ": " +
-                                      Fixed(r.correlation(i, j), 2));
+                                      fmt::format("{:.2f}", r.correlation(i, j)));
     }
   const TargetViews& views = a.cameras[c];
   double total = 0.0;
@@ -91,13 +86,14 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
   r.coverage = views.Coverage();
   if (r.coverage.border_share < o.warn_border_coverage)
     r.warnings.push_back(
-        "observations in only " + Fixed(100.0 * r.coverage.border_share, 0) +
+        "observations in only " + fmt::format("{:.0f}", 100.0 * r.coverage.border_share) +
         " % of the cells along the frame's edges: the distortion there is extrapolated; add "
         "views with the board at the edges and corners of the frame");
   const double share = static_cast<double>(r.rejected) / std::max(1, r.observations);
   if (share > o.warn_rejected_share)
-    r.warnings.push_back(Fixed(100.0 * share, 1) + " % of the observations rejected (" +
-                         std::to_string(r.rejected) + " of " + std::to_string(r.observations) +
+    r.warnings.push_back(fmt::format("{:.1f}", 100.0 * share) +
+                         " % of the observations rejected (" + std::to_string(r.rejected) + " of " +
+                         std::to_string(r.observations) +
                          "): blurred views or corners found at wrong places");
   return r;
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
-#include <opencv2/calib3d.hpp>
 #include <optional>
 
 namespace ts {
@@ -29,15 +28,13 @@ TargetViews EmptyViews(const ControlField& field, const Eigen::Vector3d& centre,
   return views;
 }
 
-// A view's pose in the (centred) field from its hand marks: resection with the camera, the
-// marks' distortion undone first.
+// A view's pose in the (centred) field from its hand marks.
 std::optional<Eigen::Isometry3d> ResectMarks(const ControlField& field,
                                              const Eigen::Vector3d& centre, const FieldImage& image,
                                              const CameraIntrinsics& camera, int min_marks,
                                              std::vector<std::string>* warnings) {
-  const CameraModel model(camera);
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> ideal;
+  std::vector<Eigen::Vector3d> target;
+  std::vector<Eigen::Vector2d> pixels;
   for (const TargetMark& m : image.marks) {
     const int index = field.IndexOf(m.id);
     if (index < 0) {
@@ -45,28 +42,12 @@ std::optional<Eigen::Isometry3d> ResectMarks(const ControlField& field,
                           " is not in the field; mark ignored");
       continue;
     }
-    const Eigen::Vector3d p = field.targets[index].position_m - centre;
-    const Eigen::Vector2d u = model.Undistort(m.pixel);
-    object.emplace_back(p.x(), p.y(), p.z());
-    ideal.emplace_back(u.x(), u.y());
+    target.push_back(field.targets[index].position_m - centre);
+    pixels.push_back(m.pixel);
   }
-  if (static_cast<int>(object.size()) < min_marks) return std::nullopt;
-  const cv::Mat k =
-      (cv::Mat_<double>(3, 3) << camera.principal_distance_px, 0, camera.principal_point_x_px, 0,
-       camera.principal_distance_px, camera.principal_point_y_px, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  if (!cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP) ||
-      !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) {
-    warnings->push_back(image.name + ": the marks give no resection");
-    return std::nullopt;
-  }
-  cv::Mat r;
-  cv::Rodrigues(rvec, r);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) pose.linear()(i, j) = r.at<double>(i, j);
-    pose.translation()[i] = tvec.at<double>(i);
-  }
+  if (static_cast<int>(target.size()) < min_marks) return std::nullopt;
+  std::optional<Eigen::Isometry3d> pose = Resect(target, pixels, camera);
+  if (!pose) warnings->push_back(image.name + ": the marks give no resection");
   return pose;
 }
 

@@ -61,10 +61,6 @@ struct SurveyedPointResidual {
   }
 };
 
-cv::Mat CameraMatrix(const IntrinsicVector& p) {
-  return (cv::Mat_<double>(3, 3) << p[0], 0, p[1], 0, p[0], p[2], 0, 0, 1);
-}
-
 // The principal distance of Zhang's closed form (OpenCV's initCameraMatrix2D, principal point
 // at the frame's centre) over the given views; 0 when they do not determine one.
 double ZhangFocalLength(const std::vector<std::vector<cv::Point3f>>& object,
@@ -113,24 +109,15 @@ Status ZhangStart(const TargetViews& views, IntrinsicVector* intrinsics) {
 // Each view's pose by resection with the starting camera (distortion undone first).
 Status ResectViews(const TargetViews& views, const IntrinsicVector& intrinsics,
                    std::map<int, Eigen::Isometry3d>* poses) {
-  const CameraModel model(
-      CameraIntrinsics::FromParameters(intrinsics, views.width_px, views.height_px, 0.0));
+  const CameraIntrinsics camera =
+      CameraIntrinsics::FromParameters(intrinsics, views.width_px, views.height_px, 0.0);
   for (const TargetView& v : views.views) {
     if (v.pixels.size() < 6) return Error{"view " + v.name + ": fewer than 6 target points"};
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
-    for (size_t i = 0; i < v.ids.size(); ++i) {
-      const Eigen::Vector3d& t = views.target[v.ids[i]];
-      const Eigen::Vector2d ideal = model.Undistort(v.pixels[i]);
-      object.emplace_back(t.x(), t.y(), t.z());
-      image.emplace_back(ideal.x(), ideal.y());
-    }
-    cv::Mat rvec, tvec;
-    if (!cv::solvePnP(object, image, CameraMatrix(intrinsics), cv::noArray(), rvec, tvec))
-      return Error{"view " + v.name + ": no resection"};
-    Pose6 pose;
-    for (int j = 0; j < 3; ++j) pose[j] = rvec.at<double>(j), pose[3 + j] = tvec.at<double>(j);
-    (*poses)[v.placement] = IsometryFromPose(pose);
+    std::vector<Eigen::Vector3d> target;
+    for (int id : v.ids) target.push_back(views.target[id]);
+    const std::optional<Eigen::Isometry3d> pose = Resect(target, v.pixels, camera);
+    if (!pose) return Error{"view " + v.name + ": no resection"};
+    (*poses)[v.placement] = *pose;
   }
   return {};
 }
@@ -273,10 +260,11 @@ double FamilyWiseCriticalValue(int n, double alpha) {
   return hi;
 }
 
-// sigma0 from the inliers. Then, when it may, every observation is judged again against k
-// sigma0 (one rejected earlier comes back when it fits); returns how many judgements changed.
+// sigma0 from the inliers (image_squares: the images' part of its sum). Then, when it may, every
+// observation is judged again against k sigma0 (one rejected earlier comes back when it fits);
+// returns how many judgements changed.
 int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool may_reject,
-                  AdjustmentPrecision* precision) {
+                  AdjustmentPrecision* precision, double* image_squares) {
   const auto residuals = TargetResiduals(*a);
   double sum = 0.0;
   int inliers = 0, all = 0;
@@ -284,6 +272,7 @@ int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool ma
     for (size_t v = 0; v < residuals[c].size(); ++v)
       for (size_t i = 0; i < residuals[c][v].size(); ++i, ++all)
         if (!a->rejected[c][v][i]) sum += residuals[c][v][i].squaredNorm(), ++inliers;
+  *image_squares = sum;
   const std::vector<char> adjusted = AdjustedPoints(*a);
   const TargetViews& first = a->cameras[0];
   for (size_t id = 0; id < adjusted.size(); ++id)
@@ -346,7 +335,7 @@ bool EstimateCovariance(TargetAdjustment* a, ceres::Problem* problem,
 // surveyed points' share, sum over points of w^2 trace(Q_point) (w: a point's weight, Q: its
 // cofactor block). 0 when no point is surveyed, or the share is not known.
 double ImageSigmaComponent(TargetAdjustment* a, ceres::Problem* problem,
-                           const AdjustmentPrecision& precision) {
+                           const AdjustmentPrecision& precision, double image_squares) {
   std::vector<char> adjusted = AdjustedPoints(*a);
   std::vector<std::pair<const double*, const double*>> blocks;
   for (size_t id = 0; id < adjusted.size(); ++id)
@@ -369,14 +358,8 @@ double ImageSigmaComponent(TargetAdjustment* a, ceres::Problem* problem,
     const double w = a->image_sigma_px / first.target_sigma[id];
     survey_share += w * w * q.trace();
   }
-  const auto residuals = TargetResiduals(*a);
-  double sum = 0.0;
-  for (size_t c = 0; c < residuals.size(); ++c)
-    for (size_t v = 0; v < residuals[c].size(); ++v)
-      for (size_t i = 0; i < residuals[c][v].size(); ++i)
-        if (!a->rejected[c][v][i]) sum += residuals[c][v][i].squaredNorm();
   const double image_share = precision.redundancy - survey_share;
-  return image_share > 0.0 ? std::sqrt(sum / image_share) : 0.0;
+  return image_share > 0.0 ? std::sqrt(image_squares / image_share) : 0.0;
 }
 
 }  // namespace
@@ -387,6 +370,30 @@ Pose6 PoseFromIsometry(const Eigen::Isometry3d& t) {
   ceres::RotationMatrixToAngleAxis(rotation.data(), pose.data());
   for (int j = 0; j < 3; ++j) pose[3 + j] = t.translation()[j];
   return pose;
+}
+
+std::optional<Eigen::Isometry3d> Resect(const std::vector<Eigen::Vector3d>& target,
+                                        const std::vector<Eigen::Vector2d>& pixels,
+                                        const CameraIntrinsics& camera) {
+  const CameraModel model(camera);
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> ideal;
+  for (size_t i = 0; i < target.size(); ++i) {
+    const Eigen::Vector2d u = model.Undistort(pixels[i]);
+    object.emplace_back(target[i].x(), target[i].y(), target[i].z());
+    ideal.emplace_back(u.x(), u.y());
+  }
+  const cv::Mat k =
+      (cv::Mat_<double>(3, 3) << camera.principal_distance_px, 0, camera.principal_point_x_px, 0,
+       camera.principal_distance_px, camera.principal_point_y_px, 0, 0, 1);
+  cv::Mat rvec, tvec;
+  if (object.size() < 4 ||
+      !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP) ||
+      !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE))
+    return std::nullopt;
+  Pose6 pose;
+  for (int j = 0; j < 3; ++j) pose[j] = rvec.at<double>(j), pose[3 + j] = tvec.at<double>(j);
+  return IsometryFromPose(pose);
 }
 
 Eigen::Isometry3d IsometryFromPose(const Pose6& pose) {
@@ -468,9 +475,11 @@ Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* a,
     ceres::Problem problem;
     AddResiduals(a, o, &problem);
     if (Status s = Solve(&problem, o, &precision.iterations); !s) return Error{s.error()};
-    if (JudgeOutliers(a, o, round < o.max_rejection_rounds, &precision) != 0) continue;
+    double image_squares = 0.0;
+    if (JudgeOutliers(a, o, round < o.max_rejection_rounds, &precision, &image_squares) != 0)
+      continue;
     // The images' sigma weighs the survey: estimated again until it stands.
-    const double image_sigma = ImageSigmaComponent(a, &problem, precision);
+    const double image_sigma = ImageSigmaComponent(a, &problem, precision, image_squares);
     const bool settled = image_sigma <= 0.0 || std::abs(image_sigma / a->image_sigma_px - 1) < 0.02;
     if (!settled && round < kMaxWeightRounds) {
       a->image_sigma_px = image_sigma;

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,11 @@ Result<AdjustmentPrecision> SolveTargetAdjustment(TargetAdjustment* adjustment,
                                                   const TargetAdjustmentOptions& options);
 
 Eigen::Isometry3d IsometryFromPose(const Pose6& pose);
+// A camera's pose from target points and their measured pixels (four or more), the distortion
+// undone first: SQPnP, then Levenberg-Marquardt on the reprojection error (OpenCV).
+std::optional<Eigen::Isometry3d> Resect(const std::vector<Eigen::Vector3d>& target,
+                                        const std::vector<Eigen::Vector2d>& pixels,
+                                        const CameraIntrinsics& camera);
 Pose6 PoseFromIsometry(const Eigen::Isometry3d& isometry);
 
 // The measured minus the projected pixel, [camera][view][pixel] (the project's projection).

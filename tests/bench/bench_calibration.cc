@@ -32,12 +32,13 @@
 #include "sim/sensor.h"
 #include "tests/bench/bench_table.h"
 #include "tests/common/calibration_errors.h"
+#include "tests/common/field_session.h"
+#include "tests/common/opencv_sample_boards.h"
 #include "tests/common/temp_dir.h"
 
 namespace {
 
 using namespace ts;
-const std::string kBoards = TS_SHARED_DATA_DIR "/calibration/opencv_stereo_chessboard";
 
 // The value, or the error on stderr and the run ended.
 template <typename T>
@@ -51,25 +52,6 @@ T Must(Result<T> r, const std::string& what) {
 
 double Since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-struct Corners {
-  std::vector<std::vector<cv::Point3f>> object;
-  std::vector<std::vector<cv::Point2f>> image;
-};
-
-Corners OpenCvCorners(const TargetViews& v) {
-  Corners c;
-  for (const TargetView& view : v.views) {
-    c.object.emplace_back();
-    c.image.emplace_back();
-    for (size_t i = 0; i < view.ids.size(); ++i) {
-      const Eigen::Vector3d& t = v.target[view.ids[i]];
-      c.object.back().emplace_back(t.x(), t.y(), t.z());
-      c.image.back().emplace_back(view.pixels[i].x(), view.pixels[i].y());
-    }
-  }
-  return c;
 }
 
 // The largest distance over the frame between where our camera and OpenCV's model (k, d) put
@@ -87,7 +69,7 @@ double ProjectionDifferencePx(const CameraIntrinsics& ours, const cv::Mat& k, co
 }
 
 // RMS (OpenCV's definition) of a fixed camera on the views, each view's pose fitted.
-double RmsWithFixedCamera(const Corners& c, const cv::Mat& k, const cv::Mat& d) {
+double RmsWithFixedCamera(const OpenCvCorners& c, const cv::Mat& k, const cv::Mat& d) {
   double sum = 0.0;
   size_t n = 0;
   for (size_t v = 0; v < c.object.size(); ++v) {
@@ -140,30 +122,16 @@ bool Mrcal(const TargetViews& views, int columns, int rows, double spacing, doub
 }
 
 void RealSet(bench::Table* table) {
-  const ChessboardOptions board;  // 9 x 6, unit squares
+  const ChessboardOptions board;  // the sample's: 9 x 6, unit squares
   TargetViews left, right;
-  for (TargetViews* side : {&left, &right}) side->target = ChessboardCorners(board);
-  for (int i = 1; i <= 14; ++i) {
-    char l[32], r[32];
-    std::snprintf(l, sizeof(l), "left%02d.jpg", i);
-    std::snprintf(r, sizeof(r), "right%02d.jpg", i);
-    if (!std::filesystem::exists(kBoards + "/" + l)) continue;
-    const cv::Mat lg = cv::imread(kBoards + "/" + l, cv::IMREAD_GRAYSCALE);
-    const cv::Mat rg = cv::imread(kBoards + "/" + r, cv::IMREAD_GRAYSCALE);
-    left.width_px = right.width_px = lg.cols;
-    left.height_px = right.height_px = lg.rows;
-    auto lc = DetectChessboard(lg, board), rc = DetectChessboard(rg, board);
-    if (!lc || !rc) continue;
-    left.AddFullView(l, i, *lc);
-    right.AddFullView(r, i, *rc);
-  }
+  DetectSamplePairs(&left, &right);
   const cv::Size size(left.width_px, left.height_px);
   cv::Mat k[2], d[2];
   double opencv_rms[2];
   for (int c = 0; c < 2; ++c) {
     const TargetViews& views = c == 0 ? left : right;
     const std::string name = c == 0 ? "real left: " : "real right: ";
-    const Corners corners = OpenCvCorners(views);
+    const OpenCvCorners corners = ToOpenCvCorners(views);
     std::vector<cv::Mat> rv, tv;
     auto t0 = std::chrono::steady_clock::now();
     opencv_rms[c] = cv::calibrateCamera(corners.object, corners.image, size, k[c], d[c], rv, tv);
@@ -195,7 +163,7 @@ void RealSet(bench::Table* table) {
                 ProjectionDifferencePx(ours.intrinsics, mk, md), "px", ""});
     table->Add({name + "time mrcal-calibrate-cameras", mrcal_s, "s", ""});
   }
-  const Corners l = OpenCvCorners(left), r = OpenCvCorners(right);
+  const OpenCvCorners l = ToOpenCvCorners(left), r = ToOpenCvCorners(right);
   cv::Mat rr, tt, e, f;
   const double opencv_stereo =
       cv::stereoCalibrate(l.object, l.image, r.image, k[0], d[0], k[1], d[1], size, rr, tt, e, f,
@@ -227,12 +195,6 @@ void AddErrors(const std::string& name, const StereoErrors& e, bool targets, ben
   }
 }
 
-cv::Mat AsFloat(const cv::Mat& mono8) {
-  cv::Mat f;
-  mono8.convertTo(f, CV_32FC1, 1.0 / 255.0);
-  return f;
-}
-
 void Field(bench::Table* table) {
   StereoErrors errors;
   double seconds = 0.0;
@@ -240,22 +202,7 @@ void Field(bench::Table* table) {
     const sim::SimRig rig = sim::MakeSimRig(seed, 1.5);
     const sim::FieldSessionOptions o;
     const sim::FieldSession s = sim::PlanFieldSession(rig, seed, o);
-    FieldViews views;
-    views.images.resize(2);
-    for (size_t k = 0; k < s.poses.size(); ++k)
-      for (Side side : {Side::kLeft, Side::kRight}) {
-        const CameraIntrinsics& camera =
-            side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right;
-        const cv::Mat image =
-            sim::ExposeImage(sim::RenderFieldView(rig, s, side, s.poses[k], o.supersampling),
-                             camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
-                             sim::Hash(seed, k, side == Side::kLeft));
-        FieldImage fi{std::to_string(k), AsFloat(image), {}};
-        if (side == Side::kLeft) fi.marks = s.marks[k].marks;
-        views.images[side == Side::kLeft ? 0 : 1].push_back(std::move(fi));
-      }
-    views.start = {rig.nominal.rig.left, rig.nominal.rig.right};
-    views.second_from_first = rig.nominal.rig.RightFromLeftCamera();
+    const FieldViews views = SimulatedFieldViews(rig, s, seed, o);
     FieldReport report;
     const auto t0 = std::chrono::steady_clock::now();
     const StereoCalibration c =
@@ -287,7 +234,7 @@ void Boards(bench::Table* table) {
       right.AddFullView(session[k].name, static_cast<int>(k), *r);
     }
     ours.Add(Must(CalibrateStereo(left, right, {}), "boards"), rig.truth.rig);
-    const Corners lc = OpenCvCorners(left), rc = OpenCvCorners(right);
+    const OpenCvCorners lc = ToOpenCvCorners(left), rc = ToOpenCvCorners(right);
     const cv::Size size(left.width_px, left.height_px);
     cv::Mat k1, d1, k2, d2, r, t, e, f;
     std::vector<cv::Mat> rv, tv;

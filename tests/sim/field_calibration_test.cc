@@ -12,20 +12,10 @@
 #include "sim/calibration_field.h"
 #include "sim/sensor.h"
 #include "tests/common/calibration_errors.h"
+#include "tests/common/field_session.h"
 
 namespace ts::sim {
 namespace {
-
-cv::Mat Exposed(const SimRig& rig, const FieldSession& s, Side side, int k) {
-  const FieldSessionOptions o;
-  const cv::Mat radiance = RenderFieldView(rig, s, side, s.poses[k], o.supersampling);
-  const CameraIntrinsics& camera = side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right;
-  const cv::Mat mono8 = ExposeImage(radiance, camera, rig.sensor(side), o.exposure_us, 0.0,
-                                    PixelFormat::kMono8, 7 + k);
-  cv::Mat image;
-  mono8.convertTo(image, CV_32FC1, 1.0 / 255.0);
-  return image;
-}
 
 TEST(CircularTargets, AreMeasuredWithinATenthOfAPixelWithHonestSigmas) {
   const SimRig rig = MakeSimRig(1, 1.5);
@@ -35,7 +25,7 @@ TEST(CircularTargets, AreMeasuredWithinATenthOfAPixelWithHonestSigmas) {
   std::vector<double> errors, normalised;
   int predicted = 0;
   for (int k : {0, 7}) {
-    const cv::Mat image = Exposed(rig, s, Side::kLeft, k);
+    const cv::Mat image = AsFloatImage(ExposeFieldView(rig, s, Side::kLeft, k, 1, {}));
     const Eigen::Isometry3d camera_from_field =
         rig.truth.LFromCamera(Side::kLeft, s.poses[k].pan_deg, s.poses[k].tilt_deg).inverse() *
         station_from_field;
@@ -76,23 +66,6 @@ TEST(CircularTargets, AreMeasuredWithinATenthOfAPixelWithHonestSigmas) {
               errors.size(), rms, errors.back(), median);
 }
 
-// The session's images as calibrate stereo --control-field reads them: the left images carry
-// the hand marks, the right ones are oriented by the design relative orientation.
-FieldViews SessionViews(const SimRig& rig, const FieldSession& s) {
-  FieldViews views;
-  views.images.resize(2);
-  for (size_t k = 0; k < s.poses.size(); ++k)
-    for (Side side : {Side::kLeft, Side::kRight}) {
-      FieldImage image{std::string(SideName(side)) + "/" + std::to_string(k + 1), {}, {}};
-      image.image = Exposed(rig, s, side, static_cast<int>(k));
-      if (side == Side::kLeft) image.marks = s.marks[k].marks;
-      views.images[side == Side::kLeft ? 0 : 1].push_back(std::move(image));
-    }
-  views.start = {rig.nominal.rig.left, rig.nominal.rig.right};
-  views.second_from_first = rig.nominal.rig.RightFromLeftCamera();
-  return views;
-}
-
 // Issue 20's targets at the field, from the rendered images: principal distance within
 // 0.05 %, principal point within 0.3 px, distortion within 0.1 px everywhere in the frame,
 // baseline within 0.2 mm, angles within 0.005 deg (bench_calibration: the same over ten seeds).
@@ -102,7 +75,7 @@ TEST(FieldCalibration, RecoversTheTrueRigFromRenderedImages) {
   const FieldSession s = PlanFieldSession(rig, seed, {});
   FieldReport report;
   const Result<StereoCalibration> c =
-      CalibrateStereoAtField(s.surveyed, SessionViews(rig, s), {}, {}, &report);
+      CalibrateStereoAtField(s.surveyed, SimulatedFieldViews(rig, s, seed), {}, {}, &report);
   ASSERT_TRUE(c.ok()) << c.error();
   StereoErrors errors;
   errors.Add(*c, rig.truth.rig);
@@ -132,8 +105,8 @@ TEST(FieldCalibration, ADisturbedTargetIsNamed) {
   FieldSession s = PlanFieldSession(rig, seed, options);
   s.surveyed.targets[40].position_m.z() += 0.03;  // the images see the true place
   FieldReport report;
-  const Result<StereoCalibration> c =
-      CalibrateStereoAtField(s.surveyed, SessionViews(rig, s), {}, {}, &report);
+  const Result<StereoCalibration> c = CalibrateStereoAtField(
+      s.surveyed, SimulatedFieldViews(rig, s, seed, options), {}, {}, &report);
   ASSERT_TRUE(c.ok()) << c.error();
   std::string warnings;
   for (const std::string& w : report.warnings) warnings += w + "\n";

@@ -11,31 +11,10 @@
 #include "processing/calibration/camera_calibration.h"
 #include "processing/calibration/chessboard.h"
 #include "processing/geometry/rotation.h"
+#include "tests/common/opencv_sample_boards.h"
 
 namespace ts {
 namespace {
-
-const std::string kBoards = TS_SHARED_DATA_DIR "/calibration/opencv_stereo_chessboard";
-
-// The pairs in which both images show the whole board, the placement the pair's number.
-void DetectPairs(TargetViews* left, TargetViews* right) {
-  const ChessboardOptions board;  // 9 x 6, unit squares
-  for (TargetViews* side : {left, right}) side->target = ChessboardCorners(board);
-  for (int i = 1; i <= 14; ++i) {
-    char l[32], r[32];
-    std::snprintf(l, sizeof(l), "left%02d.jpg", i);
-    std::snprintf(r, sizeof(r), "right%02d.jpg", i);
-    if (!std::filesystem::exists(kBoards + "/" + l)) continue;
-    const cv::Mat left_grey = cv::imread(kBoards + "/" + l, cv::IMREAD_GRAYSCALE);
-    const cv::Mat right_grey = cv::imread(kBoards + "/" + r, cv::IMREAD_GRAYSCALE);
-    left->width_px = right->width_px = left_grey.cols;
-    left->height_px = right->height_px = left_grey.rows;
-    auto lc = DetectChessboard(left_grey, board), rc = DetectChessboard(right_grey, board);
-    if (!lc || !rc) continue;
-    left->AddFullView(l, i, *lc);
-    right->AddFullView(r, i, *rc);
-  }
-}
 
 struct OpenCvStereo {
   double rms = 0.0;
@@ -45,14 +24,10 @@ struct OpenCvStereo {
 // stereoCalibrate as OpenCV's stereo_calib.cpp sample runs it, and with the default model
 // refined jointly from calibrateCamera's; the better of the two is the reference.
 OpenCvStereo OpenCvStereoCalibrate(const TargetViews& left, const TargetViews& right) {
-  std::vector<std::vector<cv::Point3f>> object(left.views.size());
-  std::vector<std::vector<cv::Point2f>> l(left.views.size()), r(left.views.size());
-  for (size_t v = 0; v < left.views.size(); ++v)
-    for (size_t i = 0; i < left.target.size(); ++i) {
-      object[v].emplace_back(left.target[i].x(), left.target[i].y(), 0.f);
-      l[v].emplace_back(left.views[v].pixels[i].x(), left.views[v].pixels[i].y());
-      r[v].emplace_back(right.views[v].pixels[i].x(), right.views[v].pixels[i].y());
-    }
+  const OpenCvCorners left_corners = ToOpenCvCorners(left);
+  const std::vector<std::vector<cv::Point3f>>& object = left_corners.object;
+  const std::vector<std::vector<cv::Point2f>>& l = left_corners.image;
+  const std::vector<std::vector<cv::Point2f>> r = ToOpenCvCorners(right).image;
   const cv::Size size(left.width_px, left.height_px);
   OpenCvStereo sample;
   sample.k1 = cv::initCameraMatrix2D(object, l, size, 0);
@@ -80,7 +55,7 @@ OpenCvStereo OpenCvStereoCalibrate(const TargetViews& left, const TargetViews& r
 // lengths within 0.5 %, and the same relative orientation.
 TEST(StereoCalibration, RealPairsMatchOpenCvStereoCalibrateOnTheSameCorners) {
   TargetViews left, right;
-  DetectPairs(&left, &right);
+  DetectSamplePairs(&left, &right);
   ASSERT_GE(left.views.size(), 12u);
   const OpenCvStereo opencv = OpenCvStereoCalibrate(left, right);
   const Result<StereoCalibration> ours = CalibrateStereo(left, right, {});
@@ -180,7 +155,7 @@ TEST(StereoCalibration, RecoversAKnownRelativeOrientation) {
 
 TEST(StereoCalibration, ViewsThatShareNoPlacementAreOneClearError) {
   TargetViews left, right;
-  DetectPairs(&left, &right);
+  DetectSamplePairs(&left, &right);
   for (TargetView& v : right.views) v.placement += 100;
   const Result<StereoCalibration> s = CalibrateStereo(left, right, {});
   ASSERT_FALSE(s.ok());
