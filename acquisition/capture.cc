@@ -1,5 +1,8 @@
 #include "acquisition/capture.h"
 
+#include "acquisition/pair_sequencer.h"
+
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -19,6 +22,13 @@ bool CaptureOptions::Check(std::string* why) const {
     if (why) *why = err;
     return false;
   }
+  for (const StagePose& pose : given_plan)
+    if (!(std::abs(pose.tilt_deg) <= plan.max_abs_tilt_deg) || !std::isfinite(pose.pan_deg)) {
+      if (why)
+        *why = "a planned pose at tilt " + std::to_string(pose.tilt_deg) +
+               " deg passes the stage limit of +-" + std::to_string(plan.max_abs_tilt_deg) + " deg";
+      return false;
+    }
   return true;
 }
 
@@ -26,12 +36,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-std::string PairName(int index) {
-  char name[16];
-  std::snprintf(name, sizeof(name), "pair %02d", index);
-  return name;
-}
 
 // Removes what a stopped writer may have left: temporary files, and images of pairs the
 // manifest never committed (they are taken again).
@@ -66,7 +70,7 @@ Result<StationManifest> NewStation(const RigConfig& rig, const StageInfo& info,
   m.image_height_px = rig.calibration.rig.left.height_px;
   m.pixel_format = o.format;
   try {
-    m.plan = MakeCapturePlan(m.calibration, o.plan);
+    m.plan = o.given_plan.empty() ? MakeCapturePlan(m.calibration, o.plan) : o.given_plan;
   } catch (const std::invalid_argument& e) {
     return Error{rig.file + ": " + e.what()};
   }
@@ -88,96 +92,6 @@ Result<StationManifest> ResumeStation(const std::string& dir) {
   if (Status s = SaveStationManifest(&*m, dir); !s) return Error{s.error()};
   return m;
 }
-
-struct PairFrames {
-  Frame left, right;
-  StagePose readback;
-};
-
-class Sequencer {
- public:
-  Sequencer(Camera& left, Camera& right, const CaptureOptions& o,
-            const std::function<void(const CaptureEvent&)>& progress, CaptureSummary* summary)
-      : left_(left), right_(right), o_(o), progress_(progress), summary_(summary) {}
-
-  double exposure_us = 0.0;
-  PairTimeline timeline;  // of the pair being taken
-
-  // Both frames of one trigger, retried (and the cameras reconnected) on a lost frame.
-  Result<std::pair<Frame, Frame>> GrabBoth(int index) {
-    std::string last_error;
-    int failures[2] = {0, 0};
-    for (int attempt = 0; attempt < o_.frame_attempts; ++attempt) {
-      if (attempt > 0) ++summary_->frame_retries;
-      // Each camera answers for itself: a trigger the right camera missed says nothing about
-      // the left one (whose frame, if any, is waited for and dropped with the pair).
-      const auto triggered = Clock::now();
-      const Status tl = left_.Trigger();
-      const Status tr = right_.Trigger();
-      Result<Frame> l = tl ? left_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tl.error()});
-      Result<Frame> r = tr ? right_.WaitFrame(o_.frame_timeout) : Result<Frame>(Error{tr.error()});
-      timeline.trigger_to_frame_s += Seconds(Clock::now() - triggered);
-      ++timeline.triggers;
-      if (l && r) {
-        const uint64_t resent = l->statistics.resent_packets + r->statistics.resent_packets;
-        if (resent > 0) Log().info("{}: {} GVSP packets lost and resent", PairName(index), resent);
-        summary_->resent_packets += resent;
-        return std::pair{std::move(*l), std::move(*r)};
-      }
-      last_error = !l ? l.error() : r.error();
-      Emit({CaptureEventKind::kFrameRetry, index, 0, last_error});
-      // A camera that lost its control channel, or failed twice, is opened again.
-      for (int i = 0; i < 2; ++i) {
-        Camera& c = i == 0 ? left_ : right_;
-        if (i == 0 ? l.ok() : r.ok()) continue;
-        if (!c.ControlLost() && ++failures[i] < 2) continue;
-        if (Status s = c.Reconnect(o_.reconnect_budget); !s)
-          return Error{c.Describe() + " lost at " + PairName(index) + ": " + last_error +
-                       "; reconnecting failed: " + s.error()};
-        if (Status s = c.SetExposure(exposure_us, o_.gain_db); !s) return Error{s.error()};
-      }
-    }
-    return Error{"no complete frame pair at " + PairName(index) + " after " +
-                 std::to_string(o_.frame_attempts) + " triggers: " + last_error};
-  }
-
-  // A pair that passes the exposure check, retaken with a corrected exposure if needed.
-  Result<PairFrames> TakePair(int index, int total) {
-    for (int retake = 0;; ++retake) {
-      Result<std::pair<Frame, Frame>> frames = GrabBoth(index);
-      if (!frames) return Error{frames.error()};
-      const auto judged = Clock::now();
-      const ExposureVerdict v =
-          JudgeExposure(frames->first.image, frames->second.image, exposure_us, o_.exposure);
-      timeline.verify_s += Seconds(Clock::now() - judged);
-      if (v.ok || retake >= o_.max_retakes)
-        return PairFrames{std::move(frames->first), std::move(frames->second), {}};
-      ++summary_->retakes;
-      Emit({CaptureEventKind::kRetake, index, total,
-            v.reason + ": exposure " + std::to_string(exposure_us) + " -> " +
-                std::to_string(v.next_exposure_us) + " us"});
-      exposure_us = v.next_exposure_us;
-      for (Camera* c : {&left_, &right_})
-        if (Status s = c->SetExposure(exposure_us, o_.gain_db); !s) return Error{s.error()};
-    }
-  }
-
-  void Emit(const CaptureEvent& e) {
-    if (e.kind == CaptureEventKind::kRetake)
-      Log().info("{} retaken: {}", PairName(e.pair), e.message);
-    if (e.kind == CaptureEventKind::kFrameRetry)
-      Log().warn("{} triggered again: {}", PairName(e.pair), e.message);
-    if (e.kind == CaptureEventKind::kUpperPose) Log().info("{}: {}", PairName(e.pair), e.message);
-    if (progress_) progress_(e);
-  }
-
- private:
-  Camera& left_;
-  Camera& right_;
-  const CaptureOptions& o_;
-  const std::function<void(const CaptureEvent&)>& progress_;
-  CaptureSummary* summary_;
-};
 
 // Writes both images, then commits the pair with its timeline (write_s and pair_s added here;
 // pair_s counts from pair_started).
@@ -235,7 +149,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   std::vector<int> missing;
   for (int i = 0; i < summary.total_pairs; ++i)
     if (!m->FindPair(i)) missing.push_back(i);
-  Sequencer seq(left, right, o, progress, &summary);
+  PairSequencer seq(left, right, o, progress, &summary);
   seq.exposure_us = m->pairs.empty() ? o.initial_exposure_us : m->pairs.back().exposure_us;
   seq.Emit({CaptureEventKind::kStarted, -1, summary.total_pairs,
             std::to_string(missing.size()) + " of " + std::to_string(summary.total_pairs) +
@@ -286,6 +200,7 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
     // memory and is saved with this pair's commit, so a resume knows it.
     const auto look_up_started = Clock::now();
     const bool upper =
+        o.given_plan.empty() &&
         ExtendPlanUpwards(m->calibration, rectification, frames->left.image, frames->right.image,
                           m->plan[index], *at, o.plan, &m->plan);
     seq.timeline.verify_s += Seconds(Clock::now() - look_up_started);

@@ -30,6 +30,9 @@ namespace ts {
 
 struct CaptureOptions {
   CapturePlanOptions plan;
+  // Poses planned elsewhere (a control field's grid, MakeFieldPoseGrid): taken as they are,
+  // none added above them. Empty: the panorama of `plan`.
+  std::vector<StagePose> given_plan;
   ExposureOptions exposure;
   double initial_exposure_us = kDefaultExposureUs;
   double gain_db = 0.0;

@@ -162,10 +162,7 @@ FieldSession PlanFieldSession(const SimRig& rig, uint64_t seed, const FieldSessi
     t.position_m += o.survey_sigma_m * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     s.surveyed.targets.push_back(t);
   }
-  for (int j = 0; j < o.tilts; ++j)
-    for (int i = 0; i < o.pans; ++i)
-      s.poses.push_back(
-          {(i - 0.5 * (o.pans - 1)) * o.pan_step_deg, (j - 0.5 * (o.tilts - 1)) * o.tilt_step_deg});
+  s.poses = MakeFieldPoseGrid(o.poses);
   for (size_t k = 0; k < s.poses.size(); ++k)
     s.marks.push_back(MarkView(rig, s, static_cast<int>(k), seed, o));
   return s;

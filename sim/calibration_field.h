@@ -14,6 +14,8 @@
 
 #include "core/options.h"
 #include "core/result.h"
+#include "core/stage_pose.h"
+#include "processing/geometry/capture_plan.h"
 #include "processing/io/control_field_file.h"
 #include "sim/sim_rig.h"
 
@@ -28,13 +30,7 @@ struct FieldSessionOptions {
   // Disc diameter per metre of distance: every target some 11 px across.
   double diameter_per_m = 0.006;
   double survey_sigma_m = 0.001;
-  // Stage poses: pans across the field, tilts up and down. The relative orientation's angles
-  // are known as well as the principal points (a shift of one is a turn of the other): 36
-  // poses bring them within 0.005 deg.
-  int pans = 9;
-  double pan_step_deg = 7.5;
-  int tilts = 4;
-  double tilt_step_deg = 5.5;
+  FieldPoseGrid poses;  // centred on the field
   int marks_per_view = 5;
   double mark_sigma_px = 0.5;
   int supersampling = 3;  // per axis
@@ -49,20 +45,13 @@ struct FieldSessionOptions {
     v("diameter_per_m", self.diameter_per_m,
       {"disc diameter per metre of distance", "", 1e-4, 0.1});
     v("survey_sigma_m", self.survey_sigma_m, {"survey noise of each coordinate", "m", 0, 1});
-    v("pans", self.pans, {"stage pans", "", 1, 36});
-    v("pan_step_deg", self.pan_step_deg, {"between pans", "deg", 0, 90});
-    v("tilts", self.tilts, {"stage tilts", "", 1, 9});
-    v("tilt_step_deg", self.tilt_step_deg, {"between tilts", "deg", 0, 30});
     v("marks_per_view", self.marks_per_view, {"targets marked by hand per left image", "", 0, 50});
     v("mark_sigma_px", self.mark_sigma_px, {"error of a hand mark", "px", 0, 10});
     v("supersampling", self.supersampling, {"samples per pixel per axis", "", 1, 16});
     v("exposure_us", self.exposure_us, {"exposure time", "us", 10, 1e6});
+    v.Group("poses", self.poses);
   }
   bool Check(std::string* why) const;
-};
-
-struct StagePose {
-  double pan_deg = 0.0, tilt_deg = 0.0;
 };
 
 struct FieldSession {

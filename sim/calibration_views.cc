@@ -185,25 +185,35 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
   return session;
 }
 
+cv::Mat RenderPlacementView(const SimRig& rig, const BoardPlacement& p, Side side,
+                            const BoardSessionOptions& o, const cv::Mat& charuco_image) {
+  const StereoRig& truth = rig.truth.rig;
+  const bool left = side == Side::kLeft;
+  cv::Mat radiance =
+      RenderBoardView(left ? truth.left : truth.right,
+                      left ? p.left_from_board : truth.RightFromLeftCamera() * p.left_from_board,
+                      o.Board(), p.board, o.supersampling, charuco_image);
+  if (p.blurred) cv::GaussianBlur(radiance, radiance, cv::Size(), 1.5);
+  return radiance;
+}
+
+cv::Mat CharucoImageOf(const BoardSessionOptions& o) {
+  // Fine enough that a sample never straddles two of the image's pixels' worth of a square.
+  return o.charuco ? DrawCharucoBoard(o.Charuco(), 200) : cv::Mat();
+}
+
 std::vector<BoardPlacement> RenderBoardSession(const SimRig& rig, uint64_t seed,
                                                const BoardSessionOptions& o) {
-  const StereoRig& truth = rig.truth.rig;
-  const Eigen::Isometry3d right_from_left = truth.RightFromLeftCamera();
   std::vector<BoardPlacement> session = PlanBoardSession(rig, seed, o);
-  // Fine enough that a sample never straddles two of the image's pixels' worth of a square.
-  const cv::Mat charuco = o.charuco ? DrawCharucoBoard(o.Charuco(), 200) : cv::Mat();
+  const cv::Mat charuco = CharucoImageOf(o);
   for (size_t k = 0; k < session.size(); ++k) {
     BoardPlacement& p = session[k];
     for (Side side : {Side::kLeft, Side::kRight}) {
       const bool left = side == Side::kLeft;
-      const CameraIntrinsics& camera = left ? truth.left : truth.right;
-      cv::Mat radiance =
-          RenderBoardView(camera, left ? p.left_from_board : right_from_left * p.left_from_board,
-                          o.Board(), p.board, o.supersampling, charuco);
-      if (p.blurred) cv::GaussianBlur(radiance, radiance, cv::Size(), 1.5);
       (left ? p.left : p.right) =
-          ExposeImage(radiance, camera, rig.sensor(side), o.exposure_us, 0.0, PixelFormat::kMono8,
-                      Hash(seed, k, left ? 1 : 2));
+          ExposeImage(RenderPlacementView(rig, p, side, o, charuco),
+                      left ? rig.truth.rig.left : rig.truth.rig.right, rig.sensor(side),
+                      o.exposure_us, 0.0, PixelFormat::kMono8, Hash(seed, k, left ? 1 : 2));
     }
   }
   return session;

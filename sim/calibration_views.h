@@ -86,6 +86,12 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
                         const ChessboardOptions& board, bool board_in_view, int supersampling,
                         const cv::Mat& charuco_image = cv::Mat());
 
+// One camera's view of a placement: its radiance, before the sensor. charuco_image:
+// CharucoImageOf(options), drawn once for all placements.
+cv::Mat RenderPlacementView(const SimRig& rig, const BoardPlacement& placement, Side side,
+                            const BoardSessionOptions& options, const cv::Mat& charuco_image);
+cv::Mat CharucoImageOf(const BoardSessionOptions& options);
+
 // A rendered session written as a field team's camera would leave it, and its truth:
 //   DIR/left/NN.png, DIR/right/NN.png  the pairs (Mono8), NN from 01, views without a board too
 //   DIR/session.json                   the board (columns, rows, square) and the command that

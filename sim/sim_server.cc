@@ -28,9 +28,12 @@ Result<std::unique_ptr<SimServer>> SimServer::Start(std::shared_ptr<const SimSta
   }
   SimulatedStage* stage_ptr = server->stage_.get();
   auto pose = [stage_ptr] { return stage_ptr->Pose(); };
+  SimulatedCameraOptions cameras[2];
+  cameras[1].side = Side::kRight;
+  ServeCalibrationTargets(station->rig, station->scene.seed, options.calibration, &cameras[0],
+                          &cameras[1]);
   for (Side side : {Side::kLeft, Side::kRight}) {
-    SimulatedCameraOptions camera;
-    camera.side = side;
+    SimulatedCameraOptions& camera = cameras[side == Side::kLeft ? 0 : 1];
     camera.address = side == Side::kLeft ? options.left_address : options.right_address;
     camera.serial = side == Side::kLeft ? options.left_serial : options.right_serial;
     camera.gvsp_loss_ratio = options.faults.gvsp_loss;

@@ -14,6 +14,7 @@
 
 #include "core/result.h"
 #include "sim/faults.h"
+#include "sim/served_calibration.h"
 #include "sim/sim_station.h"
 #include "sim/simulated_camera.h"
 #include "sim/simulated_stage.h"
@@ -33,6 +34,7 @@ struct SimServeOptions {
   bool stage_pty = true;  // also serve Modbus RTU on a pseudo-terminal
   SimFaults faults;
   RenderOptions render;
+  ServedCalibration calibration;  // targets shown instead of the scene
   // Stage targets whose views are rendered before the server starts, so that the capture's
   // own time can be measured apart from rendering (`sim serve --prerender`).
   std::vector<StagePose> prerender_targets;
@@ -46,6 +48,7 @@ struct SimServeOptions {
     v("stage_port", self.stage_port, {"stage's Modbus TCP port", "", 1, 65535});
     v("stage_pty", self.stage_pty, {"also serve Modbus RTU on a pseudo-terminal"});
     v.Group("render", self.render);
+    v.Group("calibration", self.calibration);
   }
 };
 

@@ -70,8 +70,9 @@ cv::Mat ExposeFrame(const SimStation& station, const FrameRequest& r, const cv::
   const uint64_t epoch_seed = station.scene.epoch == 1
                                   ? station.scene.seed
                                   : Hash(station.scene.seed, 0xe90c, station.scene.epoch);
-  const uint64_t noise_seed = Hash(epoch_seed, r.side == Side::kLeft ? 1 : 2,
-                                   std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
+  uint64_t noise_seed = Hash(epoch_seed, r.side == Side::kLeft ? 1 : 2,
+                             std::llround(r.pan_deg * 1e3), std::llround(r.tilt_deg * 1e3));
+  if (r.view != 0) noise_seed = Hash(noise_seed, r.view, 0x71e);
   return ExposeImage(radiance, intrinsics, station.rig.sensor(r.side), r.exposure_us, r.gain_db,
                      r.format, noise_seed);
 }

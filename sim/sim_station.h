@@ -59,6 +59,7 @@ struct FrameRequest {
   double gain_db = 0.0;
   PixelFormat format = PixelFormat::kMono8;
   RenderOptions render;
+  int view = 0;  // of calibration targets shown at the pose (a board moved): its own noise
 };
 // range_m, if given, receives the true distance (m) from the projection centre to the surface
 // at each pixel centre (CV_32FC1, NaN for sky).

@@ -9,8 +9,8 @@ namespace ts::sim {
 namespace {
 
 // Poses closer than a microdegree render the same view.
-SimulatedCamera::PoseKey MakePoseKey(const StagePose& pose) {
-  return {std::llround(pose.pan_deg * 1e6), std::llround(pose.tilt_deg * 1e6)};
+SimulatedCamera::ViewKey MakeViewKey(const StagePose& pose, int view) {
+  return {std::llround(pose.pan_deg * 1e6), std::llround(pose.tilt_deg * 1e6), view};
 }
 
 // Views rendered ahead and not pre-rendered: the one the stage is coming to, and the last.
@@ -104,17 +104,18 @@ bool SimulatedCamera::running() const {
   return camera_ != nullptr;
 }
 
-void SimulatedCamera::RenderAhead(const StagePose& pose) {
+void SimulatedCamera::RenderAhead(const StagePose& pose, int view) {
   {
     std::lock_guard lock(cache_mutex_);
     ahead_wanted_ = true;
     ahead_pose_ = pose;
+    ahead_view_ = view;
   }
   cache_changed_.notify_all();
 }
 
 void SimulatedCamera::Prerender(const std::vector<StagePose>& poses) {
-  for (const StagePose& pose : poses) Radiance(pose, true);
+  for (const StagePose& pose : poses) Radiance(pose, 0, true);
 }
 
 SimulatedCamera::Counters SimulatedCamera::counters() const {
@@ -129,14 +130,15 @@ void SimulatedCamera::RenderAheadLoop() {
     if (quit_) return;
     ahead_wanted_ = false;
     const StagePose pose = ahead_pose_;
+    const int view = ahead_view_;
     lock.unlock();
-    Radiance(pose, false);
+    Radiance(pose, view, false);
     lock.lock();
   }
 }
 
-cv::Mat SimulatedCamera::Radiance(const StagePose& pose, bool pin, bool* waited) {
-  const PoseKey key = MakePoseKey(pose);
+cv::Mat SimulatedCamera::Radiance(const StagePose& pose, int view, bool pin, bool* waited) {
+  const ViewKey key = MakeViewKey(pose, view);
   auto cached = [&]() -> cv::Mat {
     std::lock_guard lock(cache_mutex_);
     const auto it = radiance_.find(key);
@@ -153,7 +155,8 @@ cv::Mat SimulatedCamera::Radiance(const StagePose& pose, bool pin, bool* waited)
   request.pan_deg = pose.pan_deg;
   request.tilt_deg = pose.tilt_deg;
   request.render = options_.render;
-  cv::Mat radiance = RenderRadiance(renderer_, *station_, request);
+  cv::Mat radiance = options_.target_radiance ? options_.target_radiance(pose, view)
+                                              : RenderRadiance(renderer_, *station_, request);
   std::lock_guard lock(cache_mutex_);
   radiance_[key] = radiance;
   if (!pin) {
@@ -168,20 +171,23 @@ cv::Mat SimulatedCamera::Radiance(const StagePose& pose, bool pin, bool* waited)
 
 cv::Mat SimulatedCamera::Frame(const StagePose& pose, unsigned exposure_us, unsigned gain_db,
                                PixelFormat format) {
-  const PoseKey pose_key = MakePoseKey(pose);
-  const FrameKey key{pose_key.first, pose_key.second, exposure_us, gain_db,
-                     static_cast<int>(format)};
+  int view = 0;
+  FrameKey key;
   {
     std::lock_guard lock(cache_mutex_);
+    if (options_.target_radiance) view = counters_.frames % options_.target_views;
     ++counters_.frames;
+    key = {MakeViewKey(pose, view), exposure_us, gain_db, static_cast<int>(format)};
     if (!frame_.empty() && frame_key_ == key) return frame_;
   }
   bool waited = false;
-  const cv::Mat radiance = Radiance(pose, false, &waited);
+  const cv::Mat radiance = Radiance(pose, view, false, &waited);
+  if (options_.target_views > 1) RenderAhead(pose, (view + 1) % options_.target_views);
   FrameRequest request;
   request.side = options_.side;
   request.pan_deg = pose.pan_deg;
   request.tilt_deg = pose.tilt_deg;
+  request.view = view;
   request.exposure_us = exposure_us;
   request.gain_db = gain_db;
   request.format = format;

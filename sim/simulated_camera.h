@@ -38,6 +38,12 @@ struct SimulatedCameraOptions {
   // (the fake camera cannot resend; the relay can). Must be an address of lo.
   std::string hidden_address = "127.0.0.11";
   RenderOptions render;
+  // Calibration targets instead of the scene (`sim serve --calibration`): the radiance of
+  // view `view` at a stage pose. The camera's n-th frame shows view n % target_views: a
+  // board the helper moves after every pair (both cameras are triggered for every pair), or a
+  // control field's one view.
+  std::function<cv::Mat(const StagePose&, int view)> target_radiance;
+  int target_views = 1;
 };
 
 class SimulatedCamera {
@@ -53,8 +59,9 @@ class SimulatedCamera {
   // Takes the camera off the network (the camera-gone fault).
   void Stop();
   bool running() const;
-  // The stage will come to rest at `pose`: render its view now, before the trigger.
-  void RenderAhead(const StagePose& pose);
+  // The stage will come to rest at `pose`: render its view now, before the trigger. (Targets
+  // of many views: the next view is rendered ahead after each frame.)
+  void RenderAhead(const StagePose& pose, int view = 0);
   // Renders the views at these poses now (blocking) and keeps them for the camera's life.
   void Prerender(const std::vector<StagePose>& poses);
   struct Counters {
@@ -67,14 +74,14 @@ class SimulatedCamera {
   // Aravis's fill callback lands here (on the camera thread): buffer is an ArvBuffer*.
   void FillBuffer(void* buffer, unsigned exposure_us, unsigned gain, unsigned pixel_format);
 
-  using PoseKey = std::pair<long long, long long>;
-  using FrameKey = std::tuple<long long, long long, unsigned, unsigned, int>;
+  using ViewKey = std::tuple<long long, long long, int>;  // pan, tilt (microdegrees), view
+  using FrameKey = std::tuple<ViewKey, unsigned, unsigned, int>;
 
  private:
   cv::Mat Frame(const StagePose& pose, unsigned exposure_us, unsigned gain_db, PixelFormat format);
-  // The radiance at `pose`, from the cache or rendered now; *waited is set when it was not
-  // in the cache (rendered now, or still being rendered ahead).
-  cv::Mat Radiance(const StagePose& pose, bool pin, bool* waited = nullptr);
+  // The radiance of a view at `pose`, from the cache or rendered now; *waited is set when it
+  // was not in the cache (rendered now, or still being rendered ahead).
+  cv::Mat Radiance(const StagePose& pose, int view, bool pin, bool* waited = nullptr);
   void RenderAheadLoop();
 
   std::shared_ptr<const SimStation> station_;
@@ -88,13 +95,14 @@ class SimulatedCamera {
   Renderer renderer_;
   mutable std::mutex cache_mutex_;
   std::condition_variable cache_changed_;
-  std::map<PoseKey, cv::Mat> radiance_;  // pre-rendered (pinned) and the latest rendered ahead
-  std::deque<PoseKey> unpinned_;         // oldest first
+  std::map<ViewKey, cv::Mat> radiance_;  // pre-rendered (pinned) and the latest rendered ahead
+  std::deque<ViewKey> unpinned_;         // oldest first
   FrameKey frame_key_{};
   cv::Mat frame_;  // the last frame served
   Counters counters_;
   bool ahead_wanted_ = false;
   StagePose ahead_pose_;
+  int ahead_view_ = 0;
   bool quit_ = false;
   std::thread render_ahead_thread_;
 };

@@ -12,14 +12,14 @@
 #include <optional>
 
 #include "core/log.h"
+#include "processing/calibration/calibration_board.h"
 #include "processing/calibration/calibration_validation.h"
 #include "processing/calibration/camera_calibration.h"
-#include "processing/calibration/charuco.h"
-#include "processing/calibration/chessboard.h"
 #include "processing/calibration/field_calibration.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/opencv_calibration_file.h"
+#include "station/board_flags.h"
 #include "station/calibration_report.h"
 #include "station/commands.h"
 #include "station/option_flags.h"
@@ -29,10 +29,8 @@ namespace {
 
 struct CalibrateArgs {
   std::string images, left, right;
-  std::string board_size = "9x6";
-  ChessboardOptions board;
-  std::string charuco_size;  // a ChArUco board instead: SQUARESxSQUARES
-  CharucoOptions charuco;
+  BoardFlags board_flags;
+  CalibrationBoard board;  // parsed from board_flags
   CameraCalibrationOptions options;
   std::string stage_from;
   // A control field instead of a board: the field, the hand marks, the design calibration.
@@ -55,28 +53,12 @@ std::vector<std::string> ExpandGlob(const std::string& flag, const std::string& 
   return files;  // glob sorts them
 }
 
-void ParseBoard(CalibrateArgs* args) {
-  if (!ParseBoardSize(args->board_size, &args->board))
-    throw CommandError("--chessboard: expected COLUMNSxROWS of inner corners, e.g. 9x6, got '" +
-                       args->board_size + "'");
-  std::string why;
-  if (!args->board.Check(&why)) throw CommandError("--chessboard: " + why);
-  if (args->charuco_size.empty()) return;
-  if (!ParseCharucoSize(args->charuco_size, &args->charuco))
-    throw CommandError("--charuco: expected SQUARESxSQUARES, e.g. 12x9, got '" +
-                       args->charuco_size + "'");
-  args->charuco.corners.square = args->board.square;
-  if (!args->charuco.Check(&why)) throw CommandError("--charuco: " + why);
-}
-
 // The board in every image, the placement its index in the list; an image without the board
 // (a ChArUco board: without six of its corners) is named in the log and skipped.
 TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateArgs& args,
                          std::vector<std::string>* skipped) {
-  const ChessboardOptions& board = args.board;
-  const bool charuco = !args.charuco_size.empty();
   TargetViews views;
-  views.target = ChessboardCorners(charuco ? args.charuco.corners : board);
+  views.target = args.board.Corners();
   for (size_t i = 0; i < files.size(); ++i) {
     const std::string& file = files[i];
     const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
@@ -86,22 +68,14 @@ TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateA
       throw CommandError(file + ": " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                          " pixels, the first image has " + std::to_string(views.width_px) + "x" +
                          std::to_string(views.height_px));
-    const std::string name = std::filesystem::path(file).filename().string();
-    if (charuco) {
-      if (auto view = DetectCharuco(grey, args.charuco)) {
-        view->name = name;
-        view->placement = static_cast<int>(i);
-        views.views.push_back(std::move(*view));
-      } else {
-        skipped->push_back(file);
-        Log().warn("{}: fewer than 6 corners of the {} ChArUco board found; view skipped", file,
-                   args.charuco_size);
-      }
-    } else if (auto corners = DetectChessboard(grey, board)) {
-      views.AddFullView(name, static_cast<int>(i), *corners);
+    if (std::optional<TargetView> view = DetectBoard(grey, args.board)) {
+      view->name = std::filesystem::path(file).filename().string();
+      view->placement = static_cast<int>(i);
+      views.views.push_back(std::move(*view));
     } else {
       skipped->push_back(file);
-      Log().warn("{}: no {}x{} chessboard found; view skipped", file, board.columns, board.rows);
+      Log().warn("{}: {} not found{}; view skipped", file, args.board.Describe(),
+                 args.board.charuco ? " (fewer than 6 corners)" : "");
     }
   }
   return views;
@@ -273,7 +247,7 @@ Result<CameraCalibration> CalibrateCameraFromBoards(const CalibrateArgs& args,
 }
 
 void RunCalibrateCamera(CalibrateArgs args) {
-  ParseBoard(&args);
+  args.board = ParseBoardFlags(args.board_flags);
   const std::vector<std::string> files = ExpandGlob("--images", args.images);
   std::vector<std::string> skipped;
   FieldReport field;
@@ -330,7 +304,7 @@ Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibr
 }
 
 void RunCalibrateStereo(CalibrateArgs args) {
-  ParseBoard(&args);
+  args.board = ParseBoardFlags(args.board_flags);
   std::optional<Calibration> previous;  // read before the work that needs it
   if (!args.stage_from.empty()) {
     Result<Calibration> loaded = LoadCalibrationYaml(args.stage_from);
@@ -476,21 +450,11 @@ void AddOpenCvCommands(CLI::App* calibrate) {
 }
 
 void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
-  CLI::Option* board =
-      cmd->add_option("--chessboard", args->board_size,
-                      "inner corners COLUMNSxROWS (default " + args->board_size + ")");
-  AddDeclaredOption(cmd, "--square", args->board, "square");
-  CLI::Option* charuco =
-      cmd->add_option("--charuco", args->charuco_size,
-                      "a ChArUco board (5x5 markers) of SQUARESxSQUARES instead; partial views "
-                      "count")
-          ->excludes(board);
-  cmd->add_option("--marker", args->charuco.marker,
-                  "with --charuco: a marker's side, of a square (default 0.75)");
+  AddBoardFlags(cmd, &args->board_flags);
   cmd->add_option("--control-field", args->control_field,
                   "calibrate at a control field instead: its targets (FIELD.yaml)")
-      ->excludes(board)
-      ->excludes(charuco);
+      ->excludes(args->board_flags.chessboard_flag)
+      ->excludes(args->board_flags.charuco_flag);
   cmd->add_option("--marks", args->marks,
                   "with --control-field: targets measured by hand (MARKS.yaml), 4 or more in "
                   "each stage pose's left or right image");

@@ -1,6 +1,6 @@
 // topostation capture --rig RIG.yaml --out STATION [--resume] [--single-row]: the panorama
 // (12 pairs, and the poses above uphill views) over the real drivers (Aravis cameras, Modbus
-// stage) into a station directory.
+// stage) into a station directory; with --calibration, calibration views (calibration_capture.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "acquisition/capture.h"
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
+#include "station/calibration_capture.h"
 #include "station/commands.h"
 #include "station/option_flags.h"
 #include "station/progress_display.h"
@@ -25,6 +26,7 @@ struct CaptureArgs {
   bool mono16 = false;
   bool single_row = false;
   CaptureOptions options;
+  CalibrationCaptureArgs calibration;
 };
 
 void Run(const CaptureArgs& args) {
@@ -33,6 +35,8 @@ void Run(const CaptureArgs& args) {
   CaptureOptions options = args.options;
   options.plan.upper_poses = !args.single_row;
   options.format = args.mono16 ? PixelFormat::kMono16 : PixelFormat::kMono8;
+  if (!args.calibration.kind.empty())
+    return RunCalibrationCapture(args.calibration, *rig, args.out, args.resume, options, args.json);
   const CaptureSummary s =
       CaptureOrThrow(*rig, args.out, args.resume, options, ::isatty(STDERR_FILENO) && !args.json);
   if (args.json) {
@@ -105,6 +109,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_flag("--single-row", args->single_row,
                 "no poses higher up where the terrain goes on above a view");
   cmd->add_flag("--json", args->json, "print the summary as JSON");
+  AddCalibrationCaptureFlags(cmd, &args->calibration);
   cmd->callback([args] { Run(*args); });
 }
 

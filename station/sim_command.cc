@@ -65,7 +65,7 @@ void RunRenderCalibration(const RenderArgs& args) {
                          : sim::WriteFieldSession(station->rig, seed, args.field, args.out,
                                                   args.scene.truth_dir);
   if (!s) throw CommandError(s.error());
-  const int views = board ? args.board.placements : args.field.pans * args.field.tilts;
+  const int views = board ? args.board.placements : args.field.poses.pans * args.field.poses.tilts;
   std::printf("calibration session %s (%d %s, seed %llu) rendered in %.1f s; truth in %s\n",
               args.out.c_str(), views, board ? "board placements" : "stage poses at a field",
               static_cast<unsigned long long>(seed),
@@ -117,6 +117,9 @@ void RunServe(const ServeArgs& args) {
   const auto station = Build(args.scene);
   const Status truth = sim::WriteTruthDirectory(station->scene, station->rig, args.scene.truth_dir);
   if (!truth) throw CommandError(truth.error());
+  const Status targets = sim::WriteServedCalibrationTruth(
+      station->rig, station->scene.seed, options.calibration, args.scene.truth_dir);
+  if (!targets) throw CommandError(targets.error());
   if (args.prerender) options.prerender_targets = sim::DesignPlanTargets(*station);
   auto server = sim::SimServer::Start(station, options);
   if (!server) throw CommandError(server.error());
@@ -160,8 +163,8 @@ void AddSimCommand(CLI::App& app) {
   AddDeclaredOption(r, "--board-rows", render->board, "rows");
   AddDeclaredOption(r, "--square-m", render->board, "square_m");
   AddDeclaredOption(r, "--field-targets", render->field, "targets");
-  AddDeclaredOption(r, "--field-pans", render->field, "pans");
-  AddDeclaredOption(r, "--field-tilts", render->field, "tilts");
+  AddDeclaredOption(r, "--field-pans", render->field, "poses.pans");
+  AddDeclaredOption(r, "--field-tilts", render->field, "poses.tilts");
   r->callback([render] { RunRender(*render); });
 
   auto serve = std::make_shared<ServeArgs>();
@@ -180,6 +183,12 @@ void AddSimCommand(CLI::App& app) {
   }
   AddDeclaredOption(v, "--stage-port", serve->serve, "stage_port");
   AddDeclaredOption(v, "--supersampling", serve->serve, "render.supersampling");
+  v->add_option("--calibration", serve->serve.calibration.kind,
+                "show the cameras calibration targets instead of the scene: chessboard or "
+                "charuco (a board placement per pair), or field (a control field; the field "
+                "file and hand marks in --truth)")
+      ->check(CLI::IsMember({"chessboard", "charuco", "field"}));
+  AddDeclaredOption(v, "--placements", serve->serve, "calibration.board.placements");
   v->add_flag("--prerender", serve->prerender,
               "render the views of the design plan's poses before serving, so that a capture "
               "with config/sim-rig.yaml is served at once (to time the capture alone)");

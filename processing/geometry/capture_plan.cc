@@ -67,4 +67,13 @@ std::vector<StagePose> MakeCapturePlan(const Calibration& cal, const CapturePlan
   return poses;
 }
 
+std::vector<StagePose> MakeFieldPoseGrid(const FieldPoseGrid& g) {
+  std::vector<StagePose> poses;
+  for (int j = 0; j < g.tilts; ++j)
+    for (int i = 0; i < g.pans; ++i)
+      poses.push_back({g.centre_pan_deg + (i - 0.5 * (g.pans - 1)) * g.pan_step_deg,
+                       g.centre_tilt_deg + (j - 0.5 * (g.tilts - 1)) * g.tilt_step_deg});
+  return poses;
+}
+
 }  // namespace ts

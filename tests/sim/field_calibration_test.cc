@@ -98,10 +98,10 @@ TEST(FieldCalibration, ADisturbedTargetIsNamed) {
   const int seed = 3;
   const SimRig rig = MakeSimRig(seed, 1.5);
   FieldSessionOptions options;
-  options.pans = 5;
-  options.pan_step_deg = 15.0;
-  options.tilts = 3;
-  options.tilt_step_deg = 8.0;
+  options.poses.pans = 5;
+  options.poses.pan_step_deg = 15.0;
+  options.poses.tilts = 3;
+  options.poses.tilt_step_deg = 8.0;
   FieldSession s = PlanFieldSession(rig, seed, options);
   s.surveyed.targets[40].position_m.z() += 0.03;  // the images see the true place
   FieldReport report;

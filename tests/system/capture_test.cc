@@ -19,6 +19,7 @@
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
 #include "sim/sim_server.h"
+#include "tests/common/sim_rig_config.h"
 #include "tests/common/temp_dir.h"
 
 namespace ts {
@@ -49,17 +50,11 @@ class CaptureTest : public ::testing::Test {
 
   // A rig config for the simulated rig at the served endpoints (TCP, or RTU on the pty).
   std::string WriteRig(bool rtu = false) {
-    const std::string file = dir_ / "rig.yaml";
-    std::ifstream in(TS_SOURCE_DIR "/config/sim-rig.yaml");
-    std::string text((std::istreambuf_iterator<char>(in)), {});
-    const std::string tcp = "{transport: tcp, host: 127.0.0.1, port: 15020, unit_id: 1}";
     const std::string stage =
         rtu ? "{transport: rtu, device: " + server_->Endpoints()["stage_rtu"].get<std::string>() +
                   ", rs485: true}"
-            : "{transport: tcp, host: 127.0.0.1, port: " + std::to_string(port_) + "}";
-    text.replace(text.find(tcp), tcp.size(), stage);
-    std::ofstream(file) << text;
-    return file;
+            : testing::TcpStage(port_);
+    return testing::WriteSimRigConfig(dir_ / "rig.yaml", stage);
   }
 
   struct Devices {
