@@ -89,6 +89,9 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
         "observations in only " + fmt::format("{:.0f}", 100.0 * r.coverage.border_share) +
         " % of the cells along the frame's edges: the distortion there is extrapolated; add "
         "views with the board at the edges and corners of the frame");
+  for (const std::string& name : a.unresected[c])
+    r.warnings.push_back("view " + name +
+                         " left out: no pose fits its points (all on one line or one spot)");
   const double share = static_cast<double>(r.rejected) / std::max(1, r.observations);
   if (share > o.warn_rejected_share)
     r.warnings.push_back(fmt::format("{:.1f}", 100.0 * share) +

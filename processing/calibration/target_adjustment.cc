@@ -106,19 +106,26 @@ Status ZhangStart(const TargetViews& views, IntrinsicVector* intrinsics) {
   return {};
 }
 
-// Each view's pose by resection with the starting camera (distortion undone first).
-Status ResectViews(const TargetViews& views, const IntrinsicVector& intrinsics,
-                   std::map<int, Eigen::Isometry3d>* poses) {
+// Each view's pose by resection with the starting camera (distortion undone first). A view
+// whose points give no pose (degenerate: on one line or one pixel) is left out and named.
+Status ResectViews(TargetViews* views, const IntrinsicVector& intrinsics,
+                   std::map<int, Eigen::Isometry3d>* poses, std::vector<std::string>* left_out) {
   const CameraIntrinsics camera =
-      CameraIntrinsics::FromParameters(intrinsics, views.width_px, views.height_px, 0.0);
-  for (const TargetView& v : views.views) {
+      CameraIntrinsics::FromParameters(intrinsics, views->width_px, views->height_px, 0.0);
+  std::vector<TargetView> kept;
+  for (TargetView& v : views->views) {
     if (v.pixels.size() < 6) return Error{"view " + v.name + ": fewer than 6 target points"};
     std::vector<Eigen::Vector3d> target;
-    for (int id : v.ids) target.push_back(views.target[id]);
+    for (int id : v.ids) target.push_back(views->target[id]);
     const std::optional<Eigen::Isometry3d> pose = Resect(target, v.pixels, camera);
-    if (!pose) return Error{"view " + v.name + ": no resection"};
+    if (!pose) {
+      left_out->push_back(v.name);
+      continue;
+    }
     (*poses)[v.placement] = *pose;
+    kept.push_back(std::move(v));
   }
+  views->views = std::move(kept);
   return {};
 }
 
@@ -387,10 +394,15 @@ std::optional<Eigen::Isometry3d> Resect(const std::vector<Eigen::Vector3d>& targ
       (cv::Mat_<double>(3, 3) << camera.principal_distance_px, 0, camera.principal_point_x_px, 0,
        camera.principal_distance_px, camera.principal_point_y_px, 0, 0, 1);
   cv::Mat rvec, tvec;
-  if (object.size() < 4 ||
-      !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP) ||
-      !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE))
+  if (object.size() < 4) return std::nullopt;
+  try {
+    if (!cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_SQPNP) ||
+        !cv::solvePnP(object, ideal, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE))
+      return std::nullopt;
+  } catch (const cv::Exception&) {
+    // SQPnP asserts on degenerate points (all on one pixel, non-finite): no pose, not a crash.
     return std::nullopt;
+  }
   Pose6 pose;
   for (int j = 0; j < 3; ++j) pose[j] = rvec.at<double>(j), pose[3 + j] = tvec.at<double>(j);
   return IsometryFromPose(pose);
@@ -436,6 +448,7 @@ Status InitialiseTargetAdjustment(TargetAdjustment* a,
   a->image_sigma_px = a->cameras[0].pixel_sigma_px;
   a->intrinsics.resize(a->cameras.size());
   a->fixed.resize(a->cameras.size());
+  a->unresected.assign(a->cameras.size(), {});
   std::vector<std::map<int, Eigen::Isometry3d>> poses(a->cameras.size());
   for (size_t c = 0; c < a->cameras.size(); ++c) {
     const TargetViews& views = a->cameras[c];
@@ -447,7 +460,8 @@ Status InitialiseTargetAdjustment(TargetAdjustment* a,
     } else if (Status s = ZhangStart(views, &a->intrinsics[c]); !s) {
       return s;
     }
-    if (Status s = ResectViews(views, a->intrinsics[c], &poses[c]); !s) return s;
+    if (Status s = ResectViews(&a->cameras[c], a->intrinsics[c], &poses[c], &a->unresected[c]); !s)
+      return s;
   }
   a->first_from_target.clear();
   for (const auto& [placement, pose] : poses[0])

@@ -73,6 +73,8 @@ struct TargetAdjustment {
   std::map<int, Pose6> first_from_target;                // per placement, in the first camera
   Pose6 second_from_first{};                             // two cameras only
   std::vector<std::vector<std::vector<char>>> rejected;  // [camera][view][pixel]
+  // [camera] the names of the views left out because no pose was found from their points.
+  std::vector<std::vector<std::string>> unresected;
 
   Eigen::Isometry3d CameraFromTarget(int camera, int placement) const;
   Eigen::Isometry3d SecondFromFirst() const;
