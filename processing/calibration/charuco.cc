@@ -9,6 +9,9 @@ namespace ts {
 namespace {
 
 constexpr int kMinCorners = 6;
+// The start's error, once the module's offset is removed, is about 0.1 px (the offset's spread
+// on rendered boards): a refinement that moves a corner further has left its saddle.
+constexpr double kMaxRefinementShiftPx = 0.5;
 
 cv::Ptr<cv::aruco::CharucoBoard> Board(const CharucoOptions& o) {
   return cv::aruco::CharucoBoard::create(
@@ -61,18 +64,37 @@ std::optional<TargetView> DetectCharuco(const cv::Mat& grey, const CharucoOption
       cv::aruco::testCharucoCornersCollinear(board, ids))
     return std::nullopt;
   // The aruco module's corners sit half a pixel off the saddle points (measured on rendered
-  // boards: +0.5, +0.5 px everywhere); the gradient-orthogonality refinement the chessboards
-  // get (chessboard.cc) finds the saddles, its window inside the white margin between a corner
-  // and the nearest marker ((1 - marker) / 2 of a square), where only the corner's edges are.
+  // boards: +0.5, +0.5 px everywhere, to 0.1 px; OpenCV 4.6 adds 0.5 after its own
+  // cornerSubPix, opencv/opencv#25539, mended upstream in 2026): that offset is removed first. Then
+  // the gradient-orthogonality refinement the chessboards get (chessboard.cc) finds the saddles,
+  // its window inside the white margin between a corner and the nearest marker ((1 - marker)
+  // / 2 of a square), where only the corner's edges are. On a board seen at a grazing angle
+  // that margin is a few pixels and a window may reach a marker's edge: a corner the
+  // refinement moves further than the start's own error allows is dropped, not kept wrong.
+  for (cv::Point2f& c : corners) c -= cv::Point2f(0.5f, 0.5f);
   double smallest_marker = 1e30;
   for (const auto& m : markers)
     for (int k = 0; k < 4; ++k)
       smallest_marker = std::min<double>(smallest_marker, cv::norm(m[k] - m[(k + 1) % 4]));
   const double square_px = smallest_marker / o.marker;
   const int half = std::min(5, static_cast<int>(0.5 * (1.0 - o.marker) * square_px));
-  if (half >= 2)
+  if (half >= 2) {
+    const std::vector<cv::Point2f> start = corners;
     cv::cornerSubPix(grey, corners, cv::Size(half, half), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 50, 1e-4));
+    std::vector<cv::Point2f> kept_corners;
+    std::vector<int> kept_ids;
+    for (size_t i = 0; i < corners.size(); ++i)
+      if (cv::norm(corners[i] - start[i]) <= kMaxRefinementShiftPx) {
+        kept_corners.push_back(corners[i]);
+        kept_ids.push_back(ids[i]);
+      }
+    corners = std::move(kept_corners);
+    ids = std::move(kept_ids);
+    if (static_cast<int>(ids.size()) < kMinCorners ||
+        cv::aruco::testCharucoCornersCollinear(board, ids))
+      return std::nullopt;
+  }
   TargetView view;
   for (size_t i = 0; i < ids.size(); ++i) {
     view.ids.push_back(ids[i]);

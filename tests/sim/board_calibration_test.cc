@@ -155,6 +155,9 @@ TEST(SimulatedCharuco, PartialBoardsCountAndTheRigIsRecovered) {
       errors[errors.size() * 99 / 100], partial);
   EXPECT_LT(errors[errors.size() / 2], 0.1);
   EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);
+  // The tail: corners a refinement window at a grazing angle pulled onto a marker's edge are
+  // dropped (0.65 px at the 99th percentile when they were kept).
+  EXPECT_LT(errors[errors.size() * 99 / 100], 0.45);
   EXPECT_GE(partial, 3) << "boards running off the frame count";
   const Result<StereoCalibration> s = CalibrateStereo(left, right, {});
   ASSERT_TRUE(s.ok()) << s.error();
