@@ -33,23 +33,26 @@ float BoardRadiance(const ChessboardOptions& b, const cv::Mat& charuco, double x
   return charuco.at<uchar>(v, u) > 127 ? kTargetWhite : kTargetBlack;
 }
 
-// A pose of the board in the left camera's frame, its centre at a random place in the view.
-Eigen::Isometry3d RandomPlacement(std::mt19937_64& rng, const BoardSessionOptions& o,
-                                  const CameraIntrinsics& camera, bool beyond) {
+// A pose of the board in a camera's frame, its centre towards `anchor` of the frame ((-1, -1)
+// the top left corner, (0, 0) the centre, (1, 1) the bottom right): as far as the whole board
+// can reach there, times `reach` (a tilted board's near side is larger), or beyond the edge.
+Eigen::Isometry3d PlaceBoard(std::mt19937_64& rng, const BoardSessionOptions& o,
+                             const CameraIntrinsics& camera, const Eigen::Vector2d& anchor,
+                             bool beyond, double reach) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double distance = o.min_distance_m + (o.max_distance_m - o.min_distance_m) * u(rng);
-  // Across the frame, the board's centre where the whole board can be inside it, or beyond the
-  // edge.
   const ChessboardOptions b = o.Board();
   const double scale = camera.principal_distance_px / distance;
   const double half_w = 0.5 * (b.columns + 3) * b.square * scale;
   const double half_h = 0.5 * (b.rows + 3) * b.square * scale;
   const double room_x =
-      beyond ? 0.6 * camera.width_px : std::max(0.0, 0.5 * camera.width_px - half_w);
+      beyond ? 0.6 * camera.width_px : reach * std::max(0.0, 0.5 * camera.width_px - half_w);
   const double room_y =
-      beyond ? 0.6 * camera.height_px : std::max(0.0, 0.5 * camera.height_px - half_h);
-  const double px = 0.5 * camera.width_px + room_x * (2 * u(rng) - 1);
-  const double py = 0.5 * camera.height_px + room_y * (2 * u(rng) - 1);
+      beyond ? 0.6 * camera.height_px : reach * std::max(0.0, 0.5 * camera.height_px - half_h);
+  // A hand's placement is not exact: a fifth of the room about the anchor.
+  const auto towards = [&](double a) { return std::clamp(a + 0.2 * (2 * u(rng) - 1), -1.0, 1.0); };
+  const double px = 0.5 * camera.width_px + room_x * towards(anchor.x());
+  const double py = 0.5 * camera.height_px + room_y * towards(anchor.y());
   const Eigen::Vector3d centre = CameraModel(camera).RayFromPixel({px, py}).normalized() * distance;
   const double tilt = RadFromDeg(o.max_tilt_deg);
   const Eigen::Matrix3d facing =
@@ -169,11 +172,20 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
     char name[16];
     std::snprintf(name, sizeof(name), "%02d", k + 1);
     p.name = name;
-    // A team holds the board where both cameras see all of it, except where a board running
-    // off the frame is wanted: a few tries find such a pose.
+    // A team is told to hold the board at each part of each camera's frame in turn (the
+    // corners, where the distortion is largest, the edges' middles, the centre), where both
+    // cameras see all of it, except where a board running off the frame is wanted: a few tries
+    // find such a pose, nearer the frame's centre each time.
     const bool beyond = u(rng) < o.beyond_share;
-    for (int attempt = 0; attempt < 50; ++attempt) {
-      p.left_from_board = RandomPlacement(rng, o, truth.left, beyond);
+    const Eigen::Vector2d anchor((k % 9) % 3 - 1, (k % 9) / 3 - 1);
+    const bool aim_right = (k / 9) % 2 == 1;
+    const Eigen::Isometry3d left_from_aim =
+        aim_right ? right_from_left.inverse() : Eigen::Isometry3d::Identity();
+    constexpr int kAttempts = 50;
+    for (int attempt = 0; attempt < kAttempts; ++attempt) {
+      p.left_from_board =
+          left_from_aim * PlaceBoard(rng, o, aim_right ? truth.right : truth.left, anchor, beyond,
+                                     1.0 - static_cast<double>(attempt) / kAttempts);
       if (beyond || (BoardInside(truth.left, p.left_from_board, o.Board()) &&
                      BoardInside(truth.right, right_from_left * p.left_from_board, o.Board())))
         break;

@@ -25,13 +25,14 @@ inline constexpr float kTargetBlack = 0.06f, kTargetWhite = 0.8f, kTargetBackgro
 
 struct BoardSessionOptions {
   // A session that determines the rig: many placements of a board with many corners, tilted
-  // strongly (the principal point comes from the tilts), near enough to fill much of the frame.
+  // strongly (the principal point comes from the tilts), near enough to fill much of the frame,
+  // held at each part of each camera's frame in turn (PlanBoardSession).
   int placements = 40;
   int columns = 16;  // inner corners
   int rows = 11;
   double square_m = 0.07;
-  double min_distance_m = 2.0;
-  double max_distance_m = 4.0;
+  double min_distance_m = 1.5;
+  double max_distance_m = 3.0;
   double max_tilt_deg = 50.0;
   // A ChArUco board (charuco.h) of the same inner corners: its markers a share of a square.
   bool charuco = false;

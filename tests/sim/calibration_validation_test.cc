@@ -90,7 +90,7 @@ TEST(CalibrationValidation, TheHalvesOfAFullSessionAgreeWithinTheirSigmas) {
 TEST(CalibrationValidation, BoardsOnlyInTheMiddleNeedViewsAtTheEdges) {
   const SimRig rig = MakeSimRig(2, 1.5);
   BoardSessionOptions options;
-  options.placements = 30;
+  options.placements = 60;  // a ninth of them at the frame's centre
   options.min_distance_m = options.max_distance_m = 4.0;
   options.columns = 8, options.rows = 6;
   // Boards whose centre stays in the middle third of the frame.
