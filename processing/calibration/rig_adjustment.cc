@@ -1,0 +1,295 @@
+#include "processing/calibration/rig_adjustment.h"
+
+#include <ceres/ceres.h>
+#include <ceres/covariance.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "processing/geometry/camera_model.h"
+
+namespace ts {
+
+const char* const kStageParameterNames[kStageParameterCount] = {
+    "levelling_x_deg",      "levelling_y_deg",      "pan_zero_deg",         "tilt_zero_deg",
+    "tilt_axis_offset_x_m", "tilt_axis_offset_y_m", "tilt_axis_offset_z_m", "tilt_axis_skew_deg",
+    "rig_offset_x_m",       "rig_offset_y_m",       "rig_offset_z_m",       "rig_omega_deg",
+    "rig_phi_deg",          "rig_kappa_deg"};
+
+namespace {
+
+constexpr int kPanZero = 2;
+constexpr int kMaxObservabilityRounds = 4;
+constexpr int kMaxWeightRounds = 4;
+
+bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
+
+// One image's measurement of a tie point; numeric derivatives through the camera model, which
+// is not templated.
+struct TieCost {
+  const Calibration* calibration;
+  Side side;
+  RigPose pose;
+  Eigen::Vector2d pixel;
+  double sigma_px;
+  bool operator()(const double* stage, const double* encoder, const double* point,
+                  double* residual) const {
+    StageVector v;
+    std::copy(stage, stage + kStageParameterCount, v.begin());
+    const StageKinematics k = StageKinematicsOf(v, calibration->stage);
+    const Eigen::Isometry3d s_from_camera = side == Side::kLeft
+                                                ? calibration->rig.SFromLeftCamera()
+                                                : calibration->rig.SFromRightCamera();
+    const Eigen::Isometry3d l_from_camera =
+        k.LFromS(pose.pan_deg + encoder[0], pose.tilt_deg + encoder[1]) * s_from_camera;
+    const Eigen::Vector3d p =
+        l_from_camera.inverse() * Eigen::Vector3d(point[0], point[1], point[2]);
+    const CameraModel model(side == Side::kLeft ? calibration->rig.left : calibration->rig.right);
+    Eigen::Vector2d projected;
+    if (!model.Project(p, &projected)) return false;
+    residual[0] = (projected.x() - pixel.x()) / sigma_px;
+    residual[1] = (projected.y() - pixel.y()) / sigma_px;
+    return true;
+  }
+};
+
+// Observations of parameters: (x[index] - value) / sigma for each listed index.
+struct ParameterCost {
+  std::vector<int> index;
+  std::vector<double> value, sigma;
+  template <typename T>
+  bool operator()(T const* const* x, T* residual) const {
+    for (size_t i = 0; i < index.size(); ++i) residual[i] = (x[0][index[i]] - value[i]) / sigma[i];
+    return true;
+  }
+};
+
+ceres::CostFunction* ParameterObservation(const ParameterCost& cost, int size) {
+  auto* f = new ceres::DynamicAutoDiffCostFunction<ParameterCost>(new ParameterCost(cost));
+  f->AddParameterBlock(size);
+  f->SetNumResiduals(static_cast<int>(cost.index.size()));
+  return f;
+}
+
+StageVector PriorSigmas(const RigAdjustmentOptions& o) {
+  StageVector s;
+  for (int i = 0; i < kStageParameterCount; ++i)
+    s[i] = IsOffset(i) ? o.prior_offset_sigma_m : o.prior_angle_sigma_deg;
+  return s;
+}
+
+struct Unknowns {
+  StageVector stage{};
+  std::vector<std::array<double, 2>> encoder;  // per pose: true minus read-back, deg
+  std::vector<Eigen::Vector3d> points;
+};
+
+void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o,
+                  double pixel_sigma_px, const StageVector& prior, const std::set<int>& held,
+                  Unknowns* u, ceres::Problem* problem) {
+  for (const RigTieObservation& t : in.observations) {
+    auto* cost =
+        new ceres::NumericDiffCostFunction<TieCost, ceres::CENTRAL, 2, kStageParameterCount, 2, 3>(
+            new TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, pixel_sigma_px});
+    problem->AddResidualBlock(cost, new ceres::HuberLoss(3.0), u->stage.data(),
+                              u->encoder[t.pose].data(), u->points[t.point].data());
+  }
+  for (auto& e : u->encoder)
+    if (problem->HasParameterBlock(e.data()))
+      problem->AddResidualBlock(
+          ParameterObservation({{0, 1}, {0.0, 0.0}, {o.encoder_sigma_deg, o.encoder_sigma_deg}}, 2),
+          nullptr, e.data());
+  const StageVector sigma = PriorSigmas(o);
+  ParameterCost prior_cost;
+  for (int i = 0; i < kStageParameterCount; ++i)
+    if (!held.count(i)) {
+      prior_cost.index.push_back(i);
+      prior_cost.value.push_back(prior[i]);
+      prior_cost.sigma.push_back(sigma[i]);
+    }
+  problem->AddResidualBlock(ParameterObservation(prior_cost, kStageParameterCount), nullptr,
+                            u->stage.data());
+  if (in.inclinometer_deg && !held.count(0) && !held.count(1))
+    problem->AddResidualBlock(
+        ParameterObservation({{0, 1},
+                              {in.inclinometer_deg->x(), in.inclinometer_deg->y()},
+                              {o.inclinometer_sigma_deg, o.inclinometer_sigma_deg}},
+                             kStageParameterCount),
+        nullptr, u->stage.data());
+  problem->SetManifold(
+      u->stage.data(),
+      new ceres::SubsetManifold(kStageParameterCount, std::vector<int>(held.begin(), held.end())));
+}
+
+Status Solve(ceres::Problem* problem) {
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.max_num_iterations = 100;
+  options.function_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-10;
+  options.num_threads = 2;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, problem, &summary);
+  if (!summary.IsSolutionUsable()) return Error{"the adjustment failed: " + summary.message};
+  return {};
+}
+
+// The stage parameters' covariance (a priori scale), or nothing when it cannot be computed.
+std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, ceres::Problem* problem) {
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::SPARSE_QR;
+  ceres::Covariance covariance(options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {
+      {u->stage.data(), u->stage.data()}};
+  if (!covariance.Compute(blocks, problem)) return std::nullopt;
+  Eigen::Matrix<double, kStageParameterCount, kStageParameterCount, Eigen::RowMajor> c;
+  if (!covariance.GetCovarianceBlock(u->stage.data(), u->stage.data(), c.data()))
+    return std::nullopt;
+  return Eigen::MatrixXd(c);
+}
+
+// The free parameters that dominate a combination the data tell less of than the prior did.
+std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::set<int>& held,
+                              const RigAdjustmentOptions& o, std::vector<std::string>* why) {
+  std::vector<int> free;
+  for (int i = 0; i < kStageParameterCount; ++i)
+    if (!held.count(i)) free.push_back(i);
+  const int n = static_cast<int>(free.size());
+  const StageVector sigma = PriorSigmas(o);
+  Eigen::MatrixXd c(n, n);
+  Eigen::VectorXd d(n);
+  for (int a = 0; a < n; ++a) {
+    d[a] = sigma[free[a]];
+    for (int b = 0; b < n; ++b) c(a, b) = covariance(free[a], free[b]);
+  }
+  // The information the data add, in units of the prior's: D (C^-1 - P^-1) D.
+  const Eigen::MatrixXd scaled =
+      d.asDiagonal() * c.inverse() * d.asDiagonal() - Eigen::MatrixXd::Identity(n, n);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (scaled + scaled.transpose()));
+  std::vector<int> named;
+  for (int k = 0; k < n; ++k) {
+    if (eigen.eigenvalues()[k] >= 1.0) continue;
+    Eigen::Index dominant = 0;
+    eigen.eigenvectors().col(k).cwiseAbs().maxCoeff(&dominant);
+    const int parameter = free[dominant];
+    if (std::find(named.begin(), named.end(), parameter) != named.end()) continue;
+    named.push_back(parameter);
+    why->push_back(std::string(kStageParameterNames[parameter]) +
+                   ": not determined by this panorama (the data add " +
+                   fmt::format("{:.2g}", std::max(0.0, eigen.eigenvalues()[k])) +
+                   " of the prior's information), held at its prior");
+  }
+  return named;
+}
+
+Status CheckInput(const RigAdjustmentInput& in) {
+  if (in.poses.empty() || in.points.empty() || in.observations.empty())
+    return Error{"no tie points"};
+  std::vector<std::set<int>> poses_of(in.points.size());
+  for (const RigTieObservation& t : in.observations) {
+    if (t.pose < 0 || t.pose >= static_cast<int>(in.poses.size()) || t.point < 0 ||
+        t.point >= static_cast<int>(in.points.size()) || !t.pixel.allFinite())
+      return Error{"a tie observation names no pose or point, or its pixel is not finite"};
+    poses_of[t.point].insert(t.pose);
+  }
+  for (const auto& poses : poses_of)
+    if (poses.size() >= 2) return {};
+  return Error{"no point is seen from two stage poses: nothing ties the poses together"};
+}
+
+}  // namespace
+
+StageVector StageVectorOf(const StageKinematics& s) {
+  return {s.levelling_x_deg,
+          s.levelling_y_deg,
+          s.pan_zero_deg,
+          s.tilt_zero_deg,
+          s.tilt_axis_offset_m.x(),
+          s.tilt_axis_offset_m.y(),
+          s.tilt_axis_offset_m.z(),
+          s.tilt_axis_skew_deg,
+          s.rig_offset_m.x(),
+          s.rig_offset_m.y(),
+          s.rig_offset_m.z(),
+          s.rig_rotation_opk_deg.x(),
+          s.rig_rotation_opk_deg.y(),
+          s.rig_rotation_opk_deg.z()};
+}
+
+StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage) {
+  StageKinematics s = stage;
+  s.levelling_x_deg = v[0];
+  s.levelling_y_deg = v[1];
+  s.pan_zero_deg = v[2];
+  s.tilt_zero_deg = v[3];
+  s.tilt_axis_offset_m = {v[4], v[5], v[6]};
+  s.tilt_axis_skew_deg = v[7];
+  s.rig_offset_m = {v[8], v[9], v[10]};
+  s.rig_rotation_opk_deg = {v[11], v[12], v[13]};
+  return s;
+}
+
+// The squared image residuals in pixels.
+double ImageSquares(const RigAdjustmentInput& in, const Unknowns& u) {
+  double squares = 0.0;
+  for (const RigTieObservation& t : in.observations) {
+    double residual[2];
+    TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, 1.0}(
+        u.stage.data(), u.encoder[t.pose].data(), u.points[t.point].data(), residual);
+    squares += residual[0] * residual[0] + residual[1] * residual[1];
+  }
+  return squares;
+}
+
+Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmentOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) return Error{"rig adjustment: " + why};
+  if (Status s = CheckInput(in); !s) return Error{"rig adjustment: " + s.error()};
+  const StageVector prior = StageVectorOf(in.calibration.stage);
+  std::set<int> held = {kPanZero};
+  RigAdjustment r;
+  Unknowns u;
+  // The images' sigma is estimated as a variance component, so that the sigmas weigh the
+  // images against the encoders and the inclinometer by what the images really show.
+  double pixel_sigma = o.pixel_sigma_px;
+  for (int round = 0, weighing = 0;; ++round) {
+    u.stage = prior;
+    u.encoder.assign(in.poses.size(), {0.0, 0.0});
+    u.points = in.points;
+    ceres::Problem problem;
+    BuildProblem(in, o, pixel_sigma, prior, held, &u, &problem);
+    if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
+    const double squares = ImageSquares(in, u);
+    r.observations = static_cast<int>(in.observations.size());
+    const int free = kStageParameterCount - static_cast<int>(held.size());
+    const int redundancy = 2 * r.observations - 3 * static_cast<int>(u.points.size()) - free;
+    if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
+    const double image_sigma = std::sqrt(squares / redundancy);
+    if (std::abs(image_sigma / pixel_sigma - 1.0) > 0.05 && weighing++ < kMaxWeightRounds) {
+      pixel_sigma = image_sigma;
+      continue;
+    }
+    const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, &problem);
+    if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
+    std::vector<std::string> reasons;
+    const std::vector<int> named = Undetermined(*covariance, held, o, &reasons);
+    if (!named.empty() && round < kMaxObservabilityRounds) {
+      held.insert(named.begin(), named.end());
+      r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
+      continue;
+    }
+    r.rms_px = std::sqrt(squares / (2.0 * r.observations));
+    r.image_sigma_px = image_sigma;
+    for (int i = 0; i < kStageParameterCount; ++i)
+      r.sigma[i] = held.count(i) ? 0.0 : std::sqrt((*covariance)(i, i));
+    r.stage = StageKinematicsOf(u.stage, in.calibration.stage);
+    r.points = u.points;
+    return r;
+  }
+}
+
+}  // namespace ts

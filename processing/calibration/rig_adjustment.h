@@ -1,0 +1,99 @@
+#pragma once
+// The rig on its stage (issue 21): the stage kinematics (stage_kinematics.h) estimated from tie
+// points of a panorama, the interior and stereo calibration held. Each tie point is a point of
+// the terrain seen from two or more stage poses (neighbouring pairs in their overlaps, a row
+// pose and the pose above it); its position in L is an unknown, and each image that measured
+// it is an observation through the project's camera model:
+//
+//   pixel = Project(camera_from_L(pan + d_pan, tilt + d_tilt) * point_L)
+//
+// The encoder readings are observations of the true angles (d_pan, d_tilt per pose, sigma
+// encoder_sigma_deg); the inclinometer, when given, observes the levelling; every kinematic
+// parameter has a prior (the previous calibration, sigmas of prior_*). The pan zero is the
+// azimuth datum, which no panorama shows: it is held.
+//
+// What a panorama cannot determine is found on the information it adds to the prior: the
+// stage parameters' marginal information from the data, scaled by the prior sigmas, has an
+// eigenvector for every combination of them; where an eigenvalue is below 1 (the data tell less
+// of that combination than the prior did), the parameter that dominates it is held at its
+// prior and named. The combinations that remain (tilt zero against the rig's omega with one
+// tilt, for example: only their sum turns the views) are carried by the others.
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/options.h"
+#include "core/result.h"
+#include "processing/geometry/calibration.h"
+
+namespace ts {
+
+inline constexpr int kStageParameterCount = 14;
+using StageVector = std::array<double, kStageParameterCount>;
+// Names as in calibration.yaml's stage block, one per element of StageVector.
+extern const char* const kStageParameterNames[kStageParameterCount];
+StageVector StageVectorOf(const StageKinematics& stage);
+// `stage` with the parameters of `v` (its height above the mark kept).
+StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage);
+
+struct RigAdjustmentOptions {
+  double pixel_sigma_px = 0.3;       // a tie point's image measurement, a priori
+  double encoder_sigma_deg = 0.002;  // the stage's read-back angles
+  double inclinometer_sigma_deg = 0.02;
+  double prior_angle_sigma_deg = 1.0;  // levelling, tilt zero, skew, rig rotation
+  double prior_offset_sigma_m = 0.02;  // tilt-axis and rig offsets
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("pixel_sigma_px", self.pixel_sigma_px, {"a tie point's image sigma", "px", 1e-3, 10});
+    v("encoder_sigma_deg", self.encoder_sigma_deg, {"read-back angle sigma", "deg", 1e-5, 1});
+    v("inclinometer_sigma_deg", self.inclinometer_sigma_deg,
+      {"inclinometer sigma", "deg", 1e-4, 1});
+    v("prior_angle_sigma_deg", self.prior_angle_sigma_deg,
+      {"prior sigma of the stage's small angles", "deg", 1e-4, 10});
+    v("prior_offset_sigma_m", self.prior_offset_sigma_m,
+      {"prior sigma of the stage's offsets", "m", 1e-5, 1});
+  }
+  bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
+};
+
+struct RigPose {
+  double pan_deg = 0.0;  // encoder read-back
+  double tilt_deg = 0.0;
+};
+
+struct RigTieObservation {
+  int pose = 0;  // index into the poses
+  Side side = Side::kLeft;
+  int point = 0;  // index into the points
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+};
+
+struct RigAdjustmentInput {
+  Calibration calibration;  // the cameras held; its stage is the prior and the start
+  std::vector<RigPose> poses;
+  std::vector<RigTieObservation> observations;
+  std::vector<Eigen::Vector3d> points;  // each tie point's start in L
+  // Levelling read by the inclinometer (deg, about L's X and Y).
+  std::optional<Eigen::Vector2d> inclinometer_deg;
+};
+
+struct RigAdjustment {
+  StageKinematics stage;
+  StageVector sigma{};  // a posteriori; 0 for a held parameter
+  // The parameters held at their prior because the panorama does not determine them, with why.
+  std::vector<std::string> undetermined;
+  // Of an image coordinate, a posteriori (a variance component: the sigmas above are weighed
+  // with it).
+  double image_sigma_px = 0.0;
+  double rms_px = 0.0;  // over the image observations
+  int observations = 0;
+  std::vector<Eigen::Vector3d> points;  // adjusted, in L
+};
+
+// Needs observations of at least one point from two poses.
+Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& input,
+                                const RigAdjustmentOptions& options);
+
+}  // namespace ts
