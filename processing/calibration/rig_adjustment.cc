@@ -1,7 +1,6 @@
 #include "processing/calibration/rig_adjustment.h"
 
 #include <ceres/ceres.h>
-#include <ceres/covariance.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -138,18 +137,61 @@ Status Solve(ceres::Problem* problem) {
   return {};
 }
 
-// The stage parameters' covariance (a priori scale), or nothing when it cannot be computed.
-std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, ceres::Problem* problem) {
-  ceres::Covariance::Options options;
-  options.algorithm_type = ceres::SPARSE_QR;
-  ceres::Covariance covariance(options);
-  const std::vector<std::pair<const double*, const double*>> blocks = {
-      {u->stage.data(), u->stage.data()}};
-  if (!covariance.Compute(blocks, problem)) return std::nullopt;
-  Eigen::Matrix<double, kStageParameterCount, kStageParameterCount, Eigen::RowMajor> c;
-  if (!covariance.GetCovarianceBlock(u->stage.data(), u->stage.data(), c.data()))
-    return std::nullopt;
-  return Eigen::MatrixXd(c);
+// The stage parameters' covariance (a priori scale; zero rows for held ones), or nothing when
+// the normal matrix is singular. The points are eliminated block by block (each residual
+// block of a tie observation holds one point), so the work grows with the observations, not
+// with the cube of the unknowns as a QR of the whole Jacobian does.
+std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, const std::set<int>& held,
+                                               ceres::Problem* problem) {
+  ceres::Problem::EvaluateOptions options;
+  options.parameter_blocks.push_back(u->stage.data());
+  for (auto& e : u->encoder)
+    if (problem->HasParameterBlock(e.data())) options.parameter_blocks.push_back(e.data());
+  const int reduced = kStageParameterCount - static_cast<int>(held.size()) +
+                      2 * (static_cast<int>(options.parameter_blocks.size()) - 1);
+  for (auto& p : u->points) options.parameter_blocks.push_back(p.data());
+  options.apply_loss_function = true;
+  ceres::CRSMatrix j;
+  if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &j)) return std::nullopt;
+  // Each row holds at most one point's columns: the normal matrix's blocks gathered per point,
+  // then the points eliminated (Schur complement).
+  const int points = static_cast<int>(u->points.size());
+  Eigen::MatrixXd n_ss = Eigen::MatrixXd::Zero(reduced, reduced);
+  std::vector<Eigen::Matrix3d> n_pp(points, Eigen::Matrix3d::Zero());
+  std::vector<Eigen::MatrixXd> n_ps(points, Eigen::MatrixXd::Zero(3, reduced));
+  Eigen::VectorXd a(reduced);
+  for (int row = 0; row < j.num_rows; ++row) {
+    a.setZero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    int point = -1;
+    for (int k = j.rows[row]; k < j.rows[row + 1]; ++k) {
+      if (j.cols[k] < reduced) {
+        a[j.cols[k]] = j.values[k];
+      } else {
+        point = (j.cols[k] - reduced) / 3;
+        b[(j.cols[k] - reduced) % 3] = j.values[k];
+      }
+    }
+    n_ss += a * a.transpose();
+    if (point < 0) continue;
+    n_pp[point] += b * b.transpose();
+    n_ps[point] += b * a.transpose();
+  }
+  for (int p = 0; p < points; ++p) {
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(n_pp[p]);
+    if (!lu.isInvertible()) return std::nullopt;
+    n_ss -= n_ps[p].transpose() * lu.solve(n_ps[p]);
+  }
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(n_ss);
+  if (!lu.isInvertible()) return std::nullopt;
+  const Eigen::MatrixXd inverse = lu.inverse();
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(kStageParameterCount, kStageParameterCount);
+  std::vector<int> free;
+  for (int i = 0; i < kStageParameterCount; ++i)
+    if (!held.count(i)) free.push_back(i);
+  for (size_t r = 0; r < free.size(); ++r)
+    for (size_t c = 0; c < free.size(); ++c) covariance(free[r], free[c]) = inverse(r, c);
+  return covariance;
 }
 
 // The free parameters that dominate a combination the data tell less of than the prior did.
@@ -256,10 +298,12 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   // The images' sigma is estimated as a variance component, so that the sigmas weigh the
   // images against the encoders and the inclinometer by what the images really show.
   double pixel_sigma = o.pixel_sigma_px;
+  u.stage = prior;
+  u.encoder.assign(in.poses.size(), {0.0, 0.0});
+  u.points = in.points;
+  // Each round starts from the last one's solution, a newly held parameter from its prior.
   for (int round = 0, weighing = 0;; ++round) {
-    u.stage = prior;
-    u.encoder.assign(in.poses.size(), {0.0, 0.0});
-    u.points = in.points;
+    for (int i : held) u.stage[i] = prior[i];
     ceres::Problem problem;
     BuildProblem(in, o, pixel_sigma, prior, held, &u, &problem);
     if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
@@ -273,7 +317,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       pixel_sigma = image_sigma;
       continue;
     }
-    const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, &problem);
+    const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, held, &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
     const std::vector<int> named = Undetermined(*covariance, held, o, &reasons);

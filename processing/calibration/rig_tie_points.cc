@@ -1,0 +1,137 @@
+#include "processing/calibration/rig_tie_points.h"
+
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "processing/geometry/camera_model.h"
+
+namespace ts {
+namespace {
+
+cv::Mat AsFloat(const cv::Mat& image) {
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  return f;
+}
+
+// A view of the panorama: its image, gradients and pose in L by the calibration.
+struct View {
+  cv::Mat image;
+  ImageGradients gradients;
+  Eigen::Isometry3d camera_from_l;
+};
+
+struct Candidate {
+  Eigen::Vector2d centre;     // the template's centre in the pair's left image (integer)
+  Eigen::Vector3d point;      // in L, on the ray through `centre`
+  Eigen::Vector2d predicted;  // in the neighbour's left image
+  Eigen::Matrix2d shape;      // d predicted / d centre
+};
+
+// A point of the pair, moved onto the ray through the nearest pixel centre at its distance,
+// and its predicted place and local mapping in the neighbour.
+std::optional<Candidate> Predict(const CameraModel& model, const View& from, const View& to,
+                                 const Eigen::Vector3d& point_l) {
+  const Eigen::Vector3d in_from = from.camera_from_l * point_l;
+  Eigen::Vector2d pixel;
+  if (!model.Project(in_from, &pixel)) return std::nullopt;
+  const Eigen::Vector2d centre(std::round(pixel.x()), std::round(pixel.y()));
+  const double distance = in_from.norm();
+  const Eigen::Isometry3d l_from_camera = from.camera_from_l.inverse();
+  const auto at = [&](const Eigen::Vector2d& p, Eigen::Vector2d* out) {
+    return model.Project(
+        to.camera_from_l * (l_from_camera * (model.RayFromPixel(p).normalized() * distance)), out);
+  };
+  Candidate c;
+  c.centre = centre;
+  c.point = l_from_camera * (model.RayFromPixel(centre).normalized() * distance);
+  Eigen::Vector2d dx, dy;
+  if (!at(centre, &c.predicted) || !at(centre + Eigen::Vector2d(1, 0), &dx) ||
+      !at(centre + Eigen::Vector2d(0, 1), &dy))
+    return std::nullopt;
+  c.shape.col(0) = dx - c.predicted;
+  c.shape.col(1) = dy - c.predicted;
+  return c;
+}
+
+// The candidate found in the neighbour: NCC of the warped window about the prediction, then
+// least-squares matching.
+std::optional<Eigen::Vector2d> Find(const View& from, const View& to, const Candidate& c,
+                                    const RigTiePointOptions& o) {
+  const int h = o.half_window_px, s = static_cast<int>(std::ceil(o.search_px));
+  const cv::Rect search(static_cast<int>(std::round(c.predicted.x())) - h - s,
+                        static_cast<int>(std::round(c.predicted.y())) - h - s, 2 * (h + s) + 1,
+                        2 * (h + s) + 1);
+  if ((search & cv::Rect(0, 0, to.image.cols, to.image.rows)) != search) return std::nullopt;
+  // The window as the neighbour would see it: template pixel u <- from's centre + A^-1 u.
+  const Eigen::Matrix2d inverse = c.shape.inverse();
+  const cv::Mat warp = (cv::Mat_<double>(2, 3) << inverse(0, 0), inverse(0, 1),
+                        c.centre.x() - inverse(0, 0) * h - inverse(0, 1) * h, inverse(1, 0),
+                        inverse(1, 1), c.centre.y() - inverse(1, 0) * h - inverse(1, 1) * h);
+  cv::Mat window;
+  cv::warpAffine(from.image, window, warp, cv::Size(2 * h + 1, 2 * h + 1),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
+  cv::Mat score;
+  cv::matchTemplate(to.image(search), window, score, cv::TM_CCOEFF_NORMED);
+  double best = 0.0;
+  cv::Point peak;
+  cv::minMaxLoc(score, nullptr, &best, nullptr, &peak);
+  if (!(best >= o.min_correlation)) return std::nullopt;
+  const Eigen::Vector2d start(search.x + peak.x + h, search.y + peak.y + h);
+  LsmOptions lsm;
+  lsm.half_window_px = h;
+  lsm.min_correlation = o.min_correlation;
+  const LsmResult r =
+      MatchLsm(from.image, from.gradients,
+               cv::Point(static_cast<int>(c.centre.x()), static_cast<int>(c.centre.y())), to.image,
+               start, lsm, &c.shape);
+  if (!r.ok) return std::nullopt;
+  return r.position_px;
+}
+
+}  // namespace
+
+RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
+                                    const std::vector<StereoPairImages>& pairs,
+                                    const std::vector<MatchedPair>& matched,
+                                    const RigTiePointOptions& o) {
+  RigAdjustmentInput input;
+  input.calibration = calibration;
+  std::vector<View> views;
+  for (const StereoPairImages& pair : pairs) {
+    input.poses.push_back({pair.pan_deg, pair.tilt_deg});
+    View v;
+    v.image = AsFloat(pair.left);
+    v.gradients = ComputeGradients(v.image);
+    v.camera_from_l = calibration.LFromCamera(Side::kLeft, pair.pan_deg, pair.tilt_deg).inverse();
+    views.push_back(std::move(v));
+  }
+  const CameraModel left(calibration.rig.left), right(calibration.rig.right);
+  for (size_t k = 0; k < pairs.size(); ++k)
+    for (size_t j = 0; j < pairs.size(); ++j) {
+      if (j == k) continue;
+      std::vector<Candidate> candidates;
+      for (const CloudPoint& p : matched[k].cloud)
+        if (auto c = Predict(left, views[k], views[j], p.position_m);
+            c && left.InImage(c->predicted))
+          candidates.push_back(*c);
+      if (static_cast<int>(candidates.size()) < o.min_candidates) continue;
+      const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
+      for (size_t i = 0; i < candidates.size(); i += step) {
+        const Candidate& c = candidates[i];
+        const std::optional<Eigen::Vector2d> found = Find(views[k], views[j], c, o);
+        Eigen::Vector2d in_right;
+        const Eigen::Isometry3d right_from_l =
+            calibration.LFromCamera(Side::kRight, pairs[k].pan_deg, pairs[k].tilt_deg).inverse();
+        if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
+        const int point = static_cast<int>(input.points.size());
+        input.points.push_back(c.point);
+        input.observations.push_back({static_cast<int>(k), Side::kLeft, point, c.centre});
+        input.observations.push_back({static_cast<int>(k), Side::kRight, point, in_right});
+        input.observations.push_back({static_cast<int>(j), Side::kLeft, point, *found});
+      }
+    }
+  return input;
+}
+
+}  // namespace ts
