@@ -23,7 +23,9 @@ namespace {
 
 constexpr int kPanZero = 2;
 constexpr int kMaxObservabilityRounds = 4;
-constexpr int kMaxWeightRounds = 4;
+constexpr int kMaxWeightRounds = 6;
+// Observations whose 2D residual exceeds k sigma of each coordinate are rejected.
+constexpr double kRejectionK = 4.0;
 
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
@@ -89,8 +91,10 @@ struct Unknowns {
 
 void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o,
                   double pixel_sigma_px, const StageVector& prior, const std::set<int>& held,
-                  Unknowns* u, ceres::Problem* problem) {
-  for (const RigTieObservation& t : in.observations) {
+                  const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
+  for (size_t i = 0; i < in.observations.size(); ++i) {
+    if (rejected[i]) continue;
+    const RigTieObservation& t = in.observations[i];
     auto* cost =
         new ceres::NumericDiffCostFunction<TieCost, ceres::CENTRAL, 2, kStageParameterCount, 2, 3>(
             new TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, pixel_sigma_px});
@@ -128,8 +132,8 @@ Status Solve(ceres::Problem* problem) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_SCHUR;
   options.max_num_iterations = 100;
-  options.function_tolerance = 1e-10;
-  options.parameter_tolerance = 1e-10;
+  options.function_tolerance = 1e-8;
+  options.parameter_tolerance = 1e-9;
   options.num_threads = 2;
   ceres::Solver::Summary summary;
   ceres::Solve(options, problem, &summary);
@@ -275,16 +279,28 @@ StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& s
   return s;
 }
 
-// The squared image residuals in pixels.
-double ImageSquares(const RigAdjustmentInput& in, const Unknowns& u) {
-  double squares = 0.0;
+// Each image observation's residual (pixels), squared.
+std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknowns& u) {
+  std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
-    double residual[2];
+    double residual[2] = {1e30, 1e30};
     TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, 1.0}(
         u.stage.data(), u.encoder[t.pose].data(), u.points[t.point].data(), residual);
-    squares += residual[0] * residual[0] + residual[1] * residual[1];
+    squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
   return squares;
+}
+
+// Marks the observations off by more than k sigma (a mismatched tie point); true when the
+// marks changed.
+bool Reject(const std::vector<double>& squares, double sigma, std::vector<char>* rejected) {
+  bool changed = false;
+  for (size_t i = 0; i < squares.size(); ++i) {
+    const char outlier = squares[i] > 2.0 * std::pow(kRejectionK * sigma, 2);
+    changed |= outlier != (*rejected)[i];
+    (*rejected)[i] = outlier;
+  }
+  return changed;
 }
 
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmentOptions& o) {
@@ -301,22 +317,29 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   u.stage = prior;
   u.encoder.assign(in.poses.size(), {0.0, 0.0});
   u.points = in.points;
+  std::vector<char> rejected(in.observations.size(), 0);
   // Each round starts from the last one's solution, a newly held parameter from its prior.
   for (int round = 0, weighing = 0;; ++round) {
     for (int i : held) u.stage[i] = prior[i];
     ceres::Problem problem;
-    BuildProblem(in, o, pixel_sigma, prior, held, &u, &problem);
+    BuildProblem(in, o, pixel_sigma, prior, held, rejected, &u, &problem);
     if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
-    const double squares = ImageSquares(in, u);
-    r.observations = static_cast<int>(in.observations.size());
+    const std::vector<double> squared = SquaredResiduals(in, u);
+    double squares = 0.0;
+    int kept = 0;
+    for (size_t i = 0; i < squared.size(); ++i)
+      if (!rejected[i]) squares += squared[i], ++kept;
     const int free = kStageParameterCount - static_cast<int>(held.size());
-    const int redundancy = 2 * r.observations - 3 * static_cast<int>(u.points.size()) - free;
+    const int redundancy = 2 * kept - 3 * static_cast<int>(u.points.size()) - free;
     if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
     const double image_sigma = std::sqrt(squares / redundancy);
-    if (std::abs(image_sigma / pixel_sigma - 1.0) > 0.05 && weighing++ < kMaxWeightRounds) {
+    const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;
+    if ((reweigh || Reject(squared, image_sigma, &rejected)) && weighing++ < kMaxWeightRounds) {
       pixel_sigma = image_sigma;
       continue;
     }
+    r.observations = kept;
+    r.rejected = static_cast<int>(in.observations.size()) - kept;
     const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, held, &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
@@ -326,7 +349,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
       continue;
     }
-    r.rms_px = std::sqrt(squares / (2.0 * r.observations));
+    r.rms_px = std::sqrt(squares / (2.0 * kept));
     r.image_sigma_px = image_sigma;
     for (int i = 0; i < kStageParameterCount; ++i)
       r.sigma[i] = held.count(i) ? 0.0 : std::sqrt((*covariance)(i, i));

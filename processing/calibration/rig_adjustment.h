@@ -87,8 +87,9 @@ struct RigAdjustment {
   // Of an image coordinate, a posteriori (a variance component: the sigmas above are weighed
   // with it).
   double image_sigma_px = 0.0;
-  double rms_px = 0.0;  // over the image observations
-  int observations = 0;
+  double rms_px = 0.0;                  // over the image observations kept
+  int observations = 0;                 // image observations kept
+  int rejected = 0;                     // off by more than 4 sigma: mismatched tie points
   std::vector<Eigen::Vector3d> points;  // adjusted, in L
 };
 
