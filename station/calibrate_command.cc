@@ -504,6 +504,7 @@ void AddCalibrateCommand(CLI::App& app) {
   stereo->add_option("--out", stereo_args->out, "calibration file (YAML) for process")->required();
   stereo->callback([stereo_args] { RunCalibrateStereo(*stereo_args); });
   AddOpenCvCommands(calibrate);
+  AddCalibrateRigCommand(calibrate);
 }
 
 }  // namespace ts

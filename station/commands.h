@@ -28,6 +28,7 @@ void AddSurveyCommand(CLI::App& app);
 void AddTerrainCorrectionCommand(CLI::App& app);
 void AddDiffCommand(CLI::App& app);
 void AddCalibrateCommand(CLI::App& app);
+void AddCalibrateRigCommand(CLI::App* calibrate);  // under `calibrate`
 
 // Shared by the commands that chain them (survey): each throws CommandError on failure.
 // observer (optional) sees every capture event, e.g. to hand each committed pair to an

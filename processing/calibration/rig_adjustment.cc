@@ -153,13 +153,19 @@ std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, const std::set<int>&
     if (problem->HasParameterBlock(e.data())) options.parameter_blocks.push_back(e.data());
   const int reduced = kStageParameterCount - static_cast<int>(held.size()) +
                       2 * (static_cast<int>(options.parameter_blocks.size()) - 1);
-  for (auto& p : u->points) options.parameter_blocks.push_back(p.data());
+  // A point whose observations were all rejected has left the problem.
+  std::vector<int> column_point;
+  for (size_t p = 0; p < u->points.size(); ++p)
+    if (problem->HasParameterBlock(u->points[p].data())) {
+      options.parameter_blocks.push_back(u->points[p].data());
+      column_point.push_back(static_cast<int>(p));
+    }
   options.apply_loss_function = true;
   ceres::CRSMatrix j;
   if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &j)) return std::nullopt;
   // Each row holds at most one point's columns: the normal matrix's blocks gathered per point,
   // then the points eliminated (Schur complement).
-  const int points = static_cast<int>(u->points.size());
+  const int points = static_cast<int>(column_point.size());
   Eigen::MatrixXd n_ss = Eigen::MatrixXd::Zero(reduced, reduced);
   std::vector<Eigen::Matrix3d> n_pp(points, Eigen::Matrix3d::Zero());
   std::vector<Eigen::MatrixXd> n_ps(points, Eigen::MatrixXd::Zero(3, reduced));
@@ -186,9 +192,17 @@ std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, const std::set<int>&
     if (!lu.isInvertible()) return std::nullopt;
     n_ss -= n_ps[p].transpose() * lu.solve(n_ps[p]);
   }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(n_ss);
-  if (!lu.isInvertible()) return std::nullopt;
-  const Eigen::MatrixXd inverse = lu.inverse();
+  // Inverted with its diagonal scaled to one: offsets in metres and angles in degrees differ
+  // by many orders in their information.
+  const Eigen::VectorXd scale = n_ss.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * n_ss * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
+  if (eigen.info() != Eigen::Success || !(eigen.eigenvalues()[0] > 1e-12)) return std::nullopt;
+  const Eigen::MatrixXd inverse =
+      scale.asDiagonal() *
+      (eigen.eigenvectors() * eigen.eigenvalues().cwiseInverse().asDiagonal() *
+       eigen.eigenvectors().transpose()) *
+      scale.asDiagonal();
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(kStageParameterCount, kStageParameterCount);
   std::vector<int> free;
   for (int i = 0; i < kStageParameterCount; ++i)
@@ -291,16 +305,51 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
   return squares;
 }
 
-// Marks the observations off by more than k sigma (a mismatched tie point); true when the
-// marks changed.
-bool Reject(const std::vector<double>& squares, double sigma, std::vector<char>* rejected) {
-  bool changed = false;
+// Marks the observations off by more than k sigma (a mismatched tie point), and every
+// observation of a point that no longer ties two poses (its position would be free along a
+// ray); true when the marks changed.
+bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares, double sigma,
+            std::vector<char>* rejected) {
+  std::vector<char> marks(squares.size());
+  std::vector<std::set<int>> poses_of(in.points.size());
   for (size_t i = 0; i < squares.size(); ++i) {
-    const char outlier = squares[i] > 2.0 * std::pow(kRejectionK * sigma, 2);
-    changed |= outlier != (*rejected)[i];
-    (*rejected)[i] = outlier;
+    marks[i] = squares[i] > 2.0 * std::pow(kRejectionK * sigma, 2);
+    if (!marks[i]) poses_of[in.observations[i].point].insert(in.observations[i].pose);
   }
+  for (size_t i = 0; i < squares.size(); ++i)
+    if (poses_of[in.observations[i].point].size() < 2) marks[i] = 1;
+  const bool changed = marks != *rejected;
+  *rejected = std::move(marks);
   return changed;
+}
+
+double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage) {
+  Calibration moved = in.calibration;
+  moved.stage = stage;
+  const auto camera_pose = [](const Calibration& c, const RigPose& pose) {
+    return c.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
+  };
+  std::vector<int> first_pose(in.points.size(), -1);
+  for (const RigTieObservation& t : in.observations)
+    if (first_pose[t.point] < 0) first_pose[t.point] = t.pose;
+  const StageVector v = StageVectorOf(stage);
+  const std::array<double, 2> no_correction = {0.0, 0.0};
+  std::vector<double> distances;
+  for (const RigTieObservation& t : in.observations) {
+    const int k = first_pose[t.point];
+    if (t.pose == k) continue;
+    const Eigen::Vector3d point =
+        camera_pose(moved, in.poses[k]) *
+        (camera_pose(in.calibration, in.poses[k]).inverse() * in.points[t.point]);
+    double residual[2];
+    if (!TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, 1.0}(
+            v.data(), no_correction.data(), point.data(), residual))
+      continue;
+    distances.push_back(std::hypot(residual[0], residual[1]));
+  }
+  if (distances.empty()) return 0.0;
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  return distances[distances.size() / 2];
 }
 
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmentOptions& o) {
@@ -319,7 +368,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   u.points = in.points;
   std::vector<char> rejected(in.observations.size(), 0);
   // Each round starts from the last one's solution, a newly held parameter from its prior.
-  for (int round = 0, weighing = 0;; ++round) {
+  for (int weighing = 0, observability = 0;;) {
     for (int i : held) u.stage[i] = prior[i];
     ceres::Problem problem;
     BuildProblem(in, o, pixel_sigma, prior, held, rejected, &u, &problem);
@@ -334,7 +383,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
     const double image_sigma = std::sqrt(squares / redundancy);
     const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;
-    if ((reweigh || Reject(squared, image_sigma, &rejected)) && weighing++ < kMaxWeightRounds) {
+    if ((reweigh || Reject(in, squared, image_sigma, &rejected)) && weighing++ < kMaxWeightRounds) {
       pixel_sigma = image_sigma;
       continue;
     }
@@ -344,7 +393,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
     const std::vector<int> named = Undetermined(*covariance, held, o, &reasons);
-    if (!named.empty() && round < kMaxObservabilityRounds) {
+    if (!named.empty() && observability++ < kMaxObservabilityRounds) {
       held.insert(named.begin(), named.end());
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
       continue;

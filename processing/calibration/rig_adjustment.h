@@ -93,6 +93,12 @@ struct RigAdjustment {
   std::vector<Eigen::Vector3d> points;  // adjusted, in L
 };
 
+// The seams: how far, in pixels (the median, which mismatched tie points do not move), a
+// neighbouring pose sees each tie point from where the pose that first observed it puts it (its
+// stereo point taken into L by `stage` instead of the input calibration's stage). Before an
+// adjustment: SeamMedianPx(in, in.calibration.stage).
+double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage);
+
 // Needs observations of at least one point from two poses.
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& input,
                                 const RigAdjustmentOptions& options);

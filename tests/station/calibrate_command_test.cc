@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "processing/io/calibration_yaml.h"
+#include "tests/common/station_fixture.h"
 #include "tests/common/temp_dir.h"
 
 namespace ts {
@@ -327,6 +328,23 @@ TEST(CalibrateCommand, BadControlFieldIsOneClearErrorAndNoFile) {
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
   }
+}
+
+// calibrate rig refuses what it cannot tie, with one line naming the station, and writes
+// nothing: two stations at once (not yet joined in one adjustment), a station of one pair.
+TEST(CalibrateRigCommand, WhatCannotBeTiedIsOneClearErrorAndNothingIsWritten) {
+  testing::TempDir dir;
+  const std::string station = dir / "one-pair", out = dir / "rig.yaml";
+  const StationManifest m = testing::MakeStation(station, 12, 1);
+  ASSERT_TRUE(SaveCalibrationYaml(m.calibration, dir / "cal.yaml").ok());
+  const std::string common = " --calibration " + (dir / "cal.yaml") + " --out " + out + " 2>&1";
+  const auto two = RunCommand(kExe + " calibrate rig " + station + " " + station + common);
+  EXPECT_NE(two.exit_code, 0);
+  EXPECT_NE(two.out.find("one station at a time"), std::string::npos) << two.out;
+  const auto one = RunCommand(kExe + " calibrate rig " + station + common);
+  EXPECT_NE(one.exit_code, 0);
+  EXPECT_NE(one.out.find(station + ": fewer than two pairs"), std::string::npos) << one.out;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace
