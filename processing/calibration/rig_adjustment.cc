@@ -375,11 +375,16 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
     double squares = 0.0;
-    int kept = 0;
+    int kept = 0, coordinates = 0;
+    std::set<int> points;
     for (size_t i = 0; i < squared.size(); ++i)
-      if (!rejected[i]) squares += squared[i], ++kept;
+      if (!rejected[i]) {
+        squares += squared[i], ++kept;
+        coordinates += in.observations[i].along_epipolar_only ? 1 : 2;
+        points.insert(in.observations[i].point);
+      }
     const int free = kStageParameterCount - static_cast<int>(held.size());
-    const int redundancy = 2 * kept - 3 * static_cast<int>(u.points.size()) - free;
+    const int redundancy = coordinates - 3 * static_cast<int>(points.size()) - free;
     if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
     const double image_sigma = std::sqrt(squares / redundancy);
     const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;

@@ -68,6 +68,9 @@ struct RigTieObservation {
   Side side = Side::kLeft;
   int point = 0;  // index into the points
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  // The pixel carries one coordinate of information, not two: the partner image of a rectified
+  // stereo match, whose position across the epipolar line the matching imposed.
+  bool along_epipolar_only = false;
 };
 
 struct RigAdjustmentInput {

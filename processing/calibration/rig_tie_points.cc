@@ -127,7 +127,7 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
         const int point = static_cast<int>(input.points.size());
         input.points.push_back(c.point);
         input.observations.push_back({static_cast<int>(k), Side::kLeft, point, c.centre});
-        input.observations.push_back({static_cast<int>(k), Side::kRight, point, in_right});
+        input.observations.push_back({static_cast<int>(k), Side::kRight, point, in_right, true});
         input.observations.push_back({static_cast<int>(j), Side::kLeft, point, *found});
       }
     }
