@@ -30,32 +30,43 @@ constexpr double kRejectionK = 4.0;
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
 // One image's measurement of a tie point; numeric derivatives through the camera model, which
-// is not templated.
-struct TieCost {
-  const Calibration* calibration;
-  Side side;
-  RigPose pose;
-  Eigen::Vector2d pixel;
-  double sigma_px;
+// is not templated. The camera and its place in the rig are set once: the cost is evaluated
+// dozens of times per observation and iteration.
+class TieCost {
+ public:
+  TieCost(const Calibration& calibration, const RigTieObservation& t, const RigPose& pose,
+          double sigma_px)
+      : stage_(calibration.stage),
+        s_from_camera_(t.side == Side::kLeft ? calibration.rig.SFromLeftCamera()
+                                             : calibration.rig.SFromRightCamera()),
+        model_(t.side == Side::kLeft ? calibration.rig.left : calibration.rig.right),
+        pose_(pose),
+        pixel_(t.pixel),
+        sigma_px_(sigma_px) {}
   bool operator()(const double* stage, const double* encoder, const double* point,
                   double* residual) const {
     StageVector v;
     std::copy(stage, stage + kStageParameterCount, v.begin());
-    const StageKinematics k = StageKinematicsOf(v, calibration->stage);
-    const Eigen::Isometry3d s_from_camera = side == Side::kLeft
-                                                ? calibration->rig.SFromLeftCamera()
-                                                : calibration->rig.SFromRightCamera();
     const Eigen::Isometry3d l_from_camera =
-        k.LFromS(pose.pan_deg + encoder[0], pose.tilt_deg + encoder[1]) * s_from_camera;
+        StageKinematicsOf(v, stage_).LFromS(pose_.pan_deg + encoder[0],
+                                            pose_.tilt_deg + encoder[1]) *
+        s_from_camera_;
     const Eigen::Vector3d p =
         l_from_camera.inverse() * Eigen::Vector3d(point[0], point[1], point[2]);
-    const CameraModel model(side == Side::kLeft ? calibration->rig.left : calibration->rig.right);
     Eigen::Vector2d projected;
-    if (!model.Project(p, &projected)) return false;
-    residual[0] = (projected.x() - pixel.x()) / sigma_px;
-    residual[1] = (projected.y() - pixel.y()) / sigma_px;
+    if (!model_.Project(p, &projected)) return false;
+    residual[0] = (projected.x() - pixel_.x()) / sigma_px_;
+    residual[1] = (projected.y() - pixel_.y()) / sigma_px_;
     return true;
   }
+
+ private:
+  StageKinematics stage_;  // its height above the mark; the rest comes from the parameters
+  Eigen::Isometry3d s_from_camera_;
+  CameraModel model_;
+  RigPose pose_;
+  Eigen::Vector2d pixel_;
+  double sigma_px_;
 };
 
 // Observations of parameters: (x[index] - value) / sigma for each listed index.
@@ -97,7 +108,7 @@ void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o,
     const RigTieObservation& t = in.observations[i];
     auto* cost =
         new ceres::NumericDiffCostFunction<TieCost, ceres::CENTRAL, 2, kStageParameterCount, 2, 3>(
-            new TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, pixel_sigma_px});
+            new TieCost(in.calibration, t, in.poses[t.pose], pixel_sigma_px));
     problem->AddResidualBlock(cost, new ceres::HuberLoss(3.0), u->stage.data(),
                               u->encoder[t.pose].data(), u->points[t.point].data());
   }
@@ -298,8 +309,8 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
   std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
     double residual[2] = {1e30, 1e30};
-    TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, 1.0}(
-        u.stage.data(), u.encoder[t.pose].data(), u.points[t.point].data(), residual);
+    TieCost(in.calibration, t, in.poses[t.pose], 1.0)(u.stage.data(), u.encoder[t.pose].data(),
+                                                      u.points[t.point].data(), residual);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
   return squares;
@@ -342,8 +353,8 @@ double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage) 
         camera_pose(moved, in.poses[k]) *
         (camera_pose(in.calibration, in.poses[k]).inverse() * in.points[t.point]);
     double residual[2];
-    if (!TieCost{&in.calibration, t.side, in.poses[t.pose], t.pixel, 1.0}(
-            v.data(), no_correction.data(), point.data(), residual))
+    if (!TieCost(in.calibration, t, in.poses[t.pose], 1.0)(v.data(), no_correction.data(),
+                                                           point.data(), residual))
       continue;
     distances.push_back(std::hypot(residual[0], residual[1]));
   }

@@ -117,12 +117,12 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
           candidates.push_back(*c);
       if (static_cast<int>(candidates.size()) < o.min_candidates) continue;
       const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
+      const Eigen::Isometry3d right_from_l =
+          calibration.LFromCamera(Side::kRight, pairs[k].pan_deg, pairs[k].tilt_deg).inverse();
       for (size_t i = 0; i < candidates.size(); i += step) {
         const Candidate& c = candidates[i];
         const std::optional<Eigen::Vector2d> found = Find(views[k], views[j], c, o);
         Eigen::Vector2d in_right;
-        const Eigen::Isometry3d right_from_l =
-            calibration.LFromCamera(Side::kRight, pairs[k].pan_deg, pairs[k].tilt_deg).inverse();
         if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
         const int point = static_cast<int>(input.points.size());
         input.points.push_back(c.point);
