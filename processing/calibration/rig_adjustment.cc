@@ -13,12 +13,6 @@
 
 namespace ts {
 
-const char* const kStageParameterNames[kStageParameterCount] = {
-    "levelling_x_deg",      "levelling_y_deg",      "pan_zero_deg",         "tilt_zero_deg",
-    "tilt_axis_offset_x_m", "tilt_axis_offset_y_m", "tilt_axis_offset_z_m", "tilt_axis_skew_deg",
-    "rig_offset_x_m",       "rig_offset_y_m",       "rig_offset_z_m",       "rig_omega_deg",
-    "rig_phi_deg",          "rig_kappa_deg"};
-
 namespace {
 
 constexpr int kPanZero = 2;
@@ -29,39 +23,74 @@ constexpr double kRejectionK = 4.0;
 
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
-// One image's measurement of a tie point; numeric derivatives through the camera model, which
-// is not templated. The camera and its place in the rig are set once: the cost is evaluated
-// dozens of times per observation and iteration.
-class TieCost {
+// One image's measurement of a tie point. The stage's kinematics are differentiated by Ceres'
+// jets, the projection (which inverts the distortion by Newton's method) analytically.
+class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
  public:
   TieCost(const Calibration& calibration, const RigTieObservation& t, const RigPose& pose,
           double sigma_px)
-      : stage_(calibration.stage),
-        s_from_camera_(t.side == Side::kLeft ? calibration.rig.SFromLeftCamera()
+      : s_from_camera_(t.side == Side::kLeft ? calibration.rig.SFromLeftCamera()
                                              : calibration.rig.SFromRightCamera()),
         model_(t.side == Side::kLeft ? calibration.rig.left : calibration.rig.right),
         pose_(pose),
         pixel_(t.pixel),
         sigma_px_(sigma_px) {}
-  bool operator()(const double* stage, const double* encoder, const double* point,
-                  double* residual) const {
-    StageVector v;
-    std::copy(stage, stage + kStageParameterCount, v.begin());
-    const Eigen::Isometry3d l_from_camera =
-        StageKinematicsOf(v, stage_).LFromS(pose_.pan_deg + encoder[0],
-                                            pose_.tilt_deg + encoder[1]) *
-        s_from_camera_;
-    const Eigen::Vector3d p =
-        l_from_camera.inverse() * Eigen::Vector3d(point[0], point[1], point[2]);
+
+  // Parameters: the stage vector, the encoder corrections (deg), the point in L.
+  bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
+    using Jet = ceres::Jet<double, kStageParameterCount + 2>;
+    std::array<Jet, kStageParameterCount> v;
+    for (int i = 0; i < kStageParameterCount; ++i) v[i] = Jet(x[0][i], i);
+    const Jet pan(pose_.pan_deg + x[1][0], kStageParameterCount);
+    const Jet tilt(pose_.tilt_deg + x[1][1], kStageParameterCount + 1);
+    Eigen::Matrix<Jet, 3, 3> r_ls;
+    Eigen::Matrix<Jet, 3, 1> t_ls;
+    LFromSOf(v.data(), pan, tilt, &r_ls, &t_ls);
+    const Eigen::Matrix<Jet, 3, 3> r_lc = r_ls * s_from_camera_.linear().cast<Jet>();
+    const Eigen::Matrix<Jet, 3, 1> t_lc = r_ls * s_from_camera_.translation().cast<Jet>() + t_ls;
+    const Eigen::Matrix<Jet, 3, 1> point{Jet(x[2][0]), Jet(x[2][1]), Jet(x[2][2])};
+    const Eigen::Matrix<Jet, 3, 1> in_camera = r_lc.transpose() * (point - t_lc);
+    const Eigen::Vector3d p(in_camera[0].a, in_camera[1].a, in_camera[2].a);
     Eigen::Vector2d projected;
-    if (!model_.Project(p, &projected)) return false;
+    CameraModel::Jacobian2x3 d_pixel;
+    if (!model_.Project(p, &projected, &d_pixel)) return false;
     residual[0] = (projected.x() - pixel_.x()) / sigma_px_;
     residual[1] = (projected.y() - pixel_.y()) / sigma_px_;
+    if (!jacobians) return true;
+    const Eigen::Matrix<double, 2, 3> d = d_pixel / sigma_px_;
+    Eigen::Matrix<double, 3, kStageParameterCount + 2> d_camera;
+    for (int k = 0; k < 3; ++k) d_camera.row(k) = in_camera[k].v.transpose();
+    const Eigen::Matrix<double, 2, kStageParameterCount + 2> d_angles = d * d_camera;
+    using RowMajor2x14 = Eigen::Matrix<double, 2, kStageParameterCount, Eigen::RowMajor>;
+    using RowMajor2x2 = Eigen::Matrix<double, 2, 2, Eigen::RowMajor>;
+    using RowMajor2x3 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
+    if (jacobians[0]) {
+      Eigen::Map<RowMajor2x14> d_stage(jacobians[0]);
+      d_stage = d_angles.leftCols<kStageParameterCount>();
+    }
+    if (jacobians[1]) {
+      Eigen::Map<RowMajor2x2> d_encoder(jacobians[1]);
+      d_encoder = d_angles.rightCols<2>();
+    }
+    if (jacobians[2]) {
+      Eigen::Matrix3d r_cl;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) r_cl(a, b) = r_lc(b, a).a;
+      Eigen::Map<RowMajor2x3> d_point(jacobians[2]);
+      d_point = d * r_cl;
+    }
     return true;
   }
 
+  // The residual in pixels, or false where the point does not project.
+  static bool Residual(const Calibration& calibration, const RigTieObservation& t,
+                       const RigPose& pose, const double* stage, const double* encoder,
+                       const double* point, double* residual) {
+    const double* x[] = {stage, encoder, point};
+    return TieCost(calibration, t, pose, 1.0).Evaluate(x, residual, nullptr);
+  }
+
  private:
-  StageKinematics stage_;  // its height above the mark; the rest comes from the parameters
   Eigen::Isometry3d s_from_camera_;
   CameraModel model_;
   RigPose pose_;
@@ -100,16 +129,17 @@ struct Unknowns {
   std::vector<Eigen::Vector3d> points;
 };
 
-void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o,
+// `robust`: a Huber loss on the images, for the first round, before mismatched tie points are
+// rejected; after it plain least squares, which converges in a few Gauss-Newton steps where
+// the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred.
+void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, bool robust,
                   double pixel_sigma_px, const StageVector& prior, const std::set<int>& held,
                   const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
-    auto* cost =
-        new ceres::NumericDiffCostFunction<TieCost, ceres::CENTRAL, 2, kStageParameterCount, 2, 3>(
-            new TieCost(in.calibration, t, in.poses[t.pose], pixel_sigma_px));
-    problem->AddResidualBlock(cost, new ceres::HuberLoss(3.0), u->stage.data(),
+    auto* cost = new TieCost(in.calibration, t, in.poses[t.pose], pixel_sigma_px);
+    problem->AddResidualBlock(cost, robust ? new ceres::HuberLoss(3.0) : nullptr, u->stage.data(),
                               u->encoder[t.pose].data(), u->points[t.point].data());
   }
   for (auto& e : u->encoder)
@@ -274,43 +304,13 @@ Status CheckInput(const RigAdjustmentInput& in) {
 
 }  // namespace
 
-StageVector StageVectorOf(const StageKinematics& s) {
-  return {s.levelling_x_deg,
-          s.levelling_y_deg,
-          s.pan_zero_deg,
-          s.tilt_zero_deg,
-          s.tilt_axis_offset_m.x(),
-          s.tilt_axis_offset_m.y(),
-          s.tilt_axis_offset_m.z(),
-          s.tilt_axis_skew_deg,
-          s.rig_offset_m.x(),
-          s.rig_offset_m.y(),
-          s.rig_offset_m.z(),
-          s.rig_rotation_opk_deg.x(),
-          s.rig_rotation_opk_deg.y(),
-          s.rig_rotation_opk_deg.z()};
-}
-
-StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage) {
-  StageKinematics s = stage;
-  s.levelling_x_deg = v[0];
-  s.levelling_y_deg = v[1];
-  s.pan_zero_deg = v[2];
-  s.tilt_zero_deg = v[3];
-  s.tilt_axis_offset_m = {v[4], v[5], v[6]};
-  s.tilt_axis_skew_deg = v[7];
-  s.rig_offset_m = {v[8], v[9], v[10]};
-  s.rig_rotation_opk_deg = {v[11], v[12], v[13]};
-  return s;
-}
-
 // Each image observation's residual (pixels), squared.
 std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknowns& u) {
   std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
     double residual[2] = {1e30, 1e30};
-    TieCost(in.calibration, t, in.poses[t.pose], 1.0)(u.stage.data(), u.encoder[t.pose].data(),
-                                                      u.points[t.point].data(), residual);
+    TieCost::Residual(in.calibration, t, in.poses[t.pose], u.stage.data(),
+                      u.encoder[t.pose].data(), u.points[t.point].data(), residual);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
   return squares;
@@ -353,8 +353,8 @@ double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage) 
         camera_pose(moved, in.poses[k]) *
         (camera_pose(in.calibration, in.poses[k]).inverse() * in.points[t.point]);
     double residual[2];
-    if (!TieCost(in.calibration, t, in.poses[t.pose], 1.0)(v.data(), no_correction.data(),
-                                                           point.data(), residual))
+    if (!TieCost::Residual(in.calibration, t, in.poses[t.pose], v.data(), no_correction.data(),
+                           point.data(), residual))
       continue;
     distances.push_back(std::hypot(residual[0], residual[1]));
   }
@@ -382,7 +382,8 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   for (int weighing = 0, observability = 0;;) {
     for (int i : held) u.stage[i] = prior[i];
     ceres::Problem problem;
-    BuildProblem(in, o, pixel_sigma, prior, held, rejected, &u, &problem);
+    const bool robust = weighing == 0 && observability == 0;
+    BuildProblem(in, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
     if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
     double squares = 0.0;

@@ -30,14 +30,6 @@
 
 namespace ts {
 
-inline constexpr int kStageParameterCount = 14;
-using StageVector = std::array<double, kStageParameterCount>;
-// Names as in calibration.yaml's stage block, one per element of StageVector.
-extern const char* const kStageParameterNames[kStageParameterCount];
-StageVector StageVectorOf(const StageKinematics& stage);
-// `stage` with the parameters of `v` (its height above the mark kept).
-StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage);
-
 struct RigAdjustmentOptions {
   double pixel_sigma_px = 0.3;       // a tie point's image measurement, a priori
   double encoder_sigma_deg = 0.002;  // the stage's read-back angles

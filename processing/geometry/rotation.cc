@@ -13,27 +13,6 @@ constexpr double kGimbalLockCos = 1e-12;
 double DegFromRad(double rad) { return rad * 180.0 / std::numbers::pi; }
 double RadFromDeg(double deg) { return deg * std::numbers::pi / 180.0; }
 
-Eigen::Matrix3d RotationX(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  Eigen::Matrix3d r;
-  r << 1, 0, 0, 0, c, -s, 0, s, c;
-  return r;
-}
-
-Eigen::Matrix3d RotationY(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  Eigen::Matrix3d r;
-  r << c, 0, s, 0, 1, 0, -s, 0, c;
-  return r;
-}
-
-Eigen::Matrix3d RotationZ(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  Eigen::Matrix3d r;
-  r << c, -s, 0, s, c, 0, 0, 0, 1;
-  return r;
-}
-
 Eigen::Matrix3d RotationFromOpk(const Opk& opk) {
   return RotationX(opk.omega_rad) * RotationY(opk.phi_rad) * RotationZ(opk.kappa_rad);
 }

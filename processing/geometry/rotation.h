@@ -13,12 +13,35 @@
 // the m_theta printed as eq. 2a has the opposite sign of theta; 3b is what the collinearity
 // uses, so 3b is the definition here (tested element by element).
 #include <Eigen/Core>
+#include <cmath>
 
 namespace ts {
 
-Eigen::Matrix3d RotationX(double angle_rad);
-Eigen::Matrix3d RotationY(double angle_rad);
-Eigen::Matrix3d RotationZ(double angle_rad);
+// Templated so that Ceres can differentiate through them (stage_kinematics.h).
+template <typename T>
+Eigen::Matrix<T, 3, 3> RotationX(const T& a) {
+  using std::cos, std::sin;
+  const T c = cos(a), s = sin(a), o(0), i(1);
+  Eigen::Matrix<T, 3, 3> r;
+  r << i, o, o, o, c, -s, o, s, c;
+  return r;
+}
+template <typename T>
+Eigen::Matrix<T, 3, 3> RotationY(const T& a) {
+  using std::cos, std::sin;
+  const T c = cos(a), s = sin(a), o(0), i(1);
+  Eigen::Matrix<T, 3, 3> r;
+  r << c, o, s, o, i, o, -s, o, c;
+  return r;
+}
+template <typename T>
+Eigen::Matrix<T, 3, 3> RotationZ(const T& a) {
+  using std::cos, std::sin;
+  const T c = cos(a), s = sin(a), o(0), i(1);
+  Eigen::Matrix<T, 3, 3> r;
+  r << c, -s, o, s, c, o, o, o, i;
+  return r;
+}
 
 struct Opk {
   double omega_rad = 0.0;

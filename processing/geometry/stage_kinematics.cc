@@ -6,12 +6,6 @@
 
 namespace ts {
 namespace {
-Eigen::Isometry3d Rigid(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = rotation;
-  t.translation() = translation;
-  return t;
-}
 // A stage whose "small" calibration angles exceed this is misassembled, not miscalibrated.
 constexpr double kMaxSmallAngleDeg = 10.0;
 constexpr double kMaxOffsetM = 1.0;
@@ -39,21 +33,50 @@ bool StageKinematics::Check(std::string* why) const {
 }
 
 Eigen::Isometry3d StageKinematics::LFromS(double pan_deg, double tilt_deg) const {
-  const Eigen::Isometry3d levelling =
-      Rigid(RotationX(RadFromDeg(levelling_x_deg)) * RotationY(RadFromDeg(levelling_y_deg)),
-            Eigen::Vector3d::Zero());
-  // Clockwise from above = negative rotation about +Z.
-  const Eigen::Isometry3d pan =
-      Rigid(RotationZ(-RadFromDeg(pan_deg - pan_zero_deg)), Eigen::Vector3d::Zero());
-  const Eigen::Isometry3d mount =
-      Rigid(RotationY(RadFromDeg(tilt_axis_skew_deg)), tilt_axis_offset_m);
-  // Positive tilt raises +Y towards +Z: positive rotation about +X.
-  const Eigen::Isometry3d tilt =
-      Rigid(RotationX(RadFromDeg(tilt_deg - tilt_zero_deg)), Eigen::Vector3d::Zero());
-  const Opk rig_opk{RadFromDeg(rig_rotation_opk_deg.x()), RadFromDeg(rig_rotation_opk_deg.y()),
-                    RadFromDeg(rig_rotation_opk_deg.z())};
-  const Eigen::Isometry3d rig = Rigid(RotationFromOpk(rig_opk), rig_offset_m);
-  return levelling * pan * mount * tilt * rig;
+  const StageVector v = StageVectorOf(*this);
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  LFromSOf(v.data(), pan_deg, tilt_deg, &rotation, &translation);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = rotation;
+  t.translation() = translation;
+  return t;
+}
+
+const char* const kStageParameterNames[kStageParameterCount] = {
+    "levelling_x_deg",      "levelling_y_deg",      "pan_zero_deg",         "tilt_zero_deg",
+    "tilt_axis_offset_x_m", "tilt_axis_offset_y_m", "tilt_axis_offset_z_m", "tilt_axis_skew_deg",
+    "rig_offset_x_m",       "rig_offset_y_m",       "rig_offset_z_m",       "rig_omega_deg",
+    "rig_phi_deg",          "rig_kappa_deg"};
+
+StageVector StageVectorOf(const StageKinematics& s) {
+  return {s.levelling_x_deg,
+          s.levelling_y_deg,
+          s.pan_zero_deg,
+          s.tilt_zero_deg,
+          s.tilt_axis_offset_m.x(),
+          s.tilt_axis_offset_m.y(),
+          s.tilt_axis_offset_m.z(),
+          s.tilt_axis_skew_deg,
+          s.rig_offset_m.x(),
+          s.rig_offset_m.y(),
+          s.rig_offset_m.z(),
+          s.rig_rotation_opk_deg.x(),
+          s.rig_rotation_opk_deg.y(),
+          s.rig_rotation_opk_deg.z()};
+}
+
+StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage) {
+  StageKinematics s = stage;
+  s.levelling_x_deg = v[0];
+  s.levelling_y_deg = v[1];
+  s.pan_zero_deg = v[2];
+  s.tilt_zero_deg = v[3];
+  s.tilt_axis_offset_m = {v[4], v[5], v[6]};
+  s.tilt_axis_skew_deg = v[7];
+  s.rig_offset_m = {v[8], v[9], v[10]};
+  s.rig_rotation_opk_deg = {v[11], v[12], v[13]};
+  return s;
 }
 
 }  // namespace ts

@@ -10,7 +10,11 @@
 // all are zero for an ideal stage. The station mark is at (0, 0, -height_above_mark_m).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
+#include <numbers>
 #include <string>
+
+#include "processing/geometry/rotation.h"
 
 namespace ts {
 
@@ -38,5 +42,36 @@ struct StageKinematics {
   Eigen::Isometry3d LFromS(double pan_deg, double tilt_deg) const;
   Eigen::Vector3d StationMarkInL() const { return {0.0, 0.0, -height_above_mark_m}; }
 };
+
+// The calibration parameters as one vector (everything but the height above the mark), for
+// adjustments; the names as in calibration.yaml's stage block.
+inline constexpr int kStageParameterCount = 14;
+using StageVector = std::array<double, kStageParameterCount>;
+extern const char* const kStageParameterNames[kStageParameterCount];
+StageVector StageVectorOf(const StageKinematics& stage);
+// `stage` with the parameters of `v` (its height above the mark kept).
+StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage);
+
+// L_from_S as a rotation and a translation for a StageVector `v`; templated so that Ceres can
+// differentiate it. StageKinematics::LFromS is this for doubles.
+template <typename T>
+void LFromSOf(const T* v, const T& pan_deg, const T& tilt_deg, Eigen::Matrix<T, 3, 3>* rotation,
+              Eigen::Matrix<T, 3, 1>* translation) {
+  const T rad(std::numbers::pi / 180.0);
+  const Eigen::Matrix<T, 3, 3> levelling = RotationX(v[0] * rad) * RotationY(v[1] * rad);
+  // Clockwise from above = negative rotation about +Z.
+  const Eigen::Matrix<T, 3, 3> pan = RotationZ(-(pan_deg - v[2]) * rad);
+  const Eigen::Matrix<T, 3, 3> skew = RotationY(v[7] * rad);
+  // Positive tilt raises +Y towards +Z: positive rotation about +X.
+  const Eigen::Matrix<T, 3, 3> tilt = RotationX((tilt_deg - v[3]) * rad);
+  const Eigen::Matrix<T, 3, 3> rig =
+      RotationX(v[11] * rad) * RotationY(v[12] * rad) * RotationZ(v[13] * rad);
+  const Eigen::Matrix<T, 3, 1> tilt_axis(v[4], v[5], v[6]), rig_offset(v[8], v[9], v[10]);
+  // levelling * pan * (skew, tilt_axis) * tilt * (rig, rig_offset)
+  const Eigen::Matrix<T, 3, 3> base = levelling * pan;
+  const Eigen::Matrix<T, 3, 3> tilted = skew * tilt;
+  *rotation = base * tilted * rig;
+  *translation = base * (tilt_axis + tilted * rig_offset);
+}
 
 }  // namespace ts
