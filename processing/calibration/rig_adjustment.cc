@@ -169,10 +169,12 @@ void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, b
       new ceres::SubsetManifold(kStageParameterCount, std::vector<int>(held.begin(), held.end())));
 }
 
-Status Solve(ceres::Problem* problem) {
+// The robust round only has to bring the mismatched tie points out for rejection; its Huber
+// loss converges slowly (see BuildProblem), and the rounds after it finish the solution.
+Status Solve(bool robust, ceres::Problem* problem) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_SCHUR;
-  options.max_num_iterations = 100;
+  options.max_num_iterations = robust ? 20 : 100;
   options.function_tolerance = 1e-8;
   options.parameter_tolerance = 1e-9;
   options.num_threads = 2;
@@ -384,7 +386,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
     BuildProblem(in, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
-    if (Status s = Solve(&problem); !s) return Error{"rig adjustment: " + s.error()};
+    if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
     double squares = 0.0;
     int kept = 0, coordinates = 0;
@@ -400,7 +402,8 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
     const double image_sigma = std::sqrt(squares / redundancy);
     const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;
-    if ((reweigh || Reject(in, squared, image_sigma, &rejected)) && weighing++ < kMaxWeightRounds) {
+    const bool marks_changed = Reject(in, squared, image_sigma, &rejected);
+    if ((reweigh || marks_changed) && weighing++ < kMaxWeightRounds) {
       pixel_sigma = image_sigma;
       continue;
     }
