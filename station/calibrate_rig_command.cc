@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "processing/calibration/rig_seams.h"
 #include "processing/calibration/rig_tie_points.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/matching/rectification.h"
@@ -53,6 +54,13 @@ nlohmann::json ParametersJson(const StageKinematics& before, const RigAdjustment
   return j;
 }
 
+nlohmann::json SeamsJson(const RigSeams& s) {
+  return {{"ties", s.ties.size()},
+          {"median_px", s.median_px},
+          {"median_mm", s.median_mm},
+          {"within_2_sigma", s.within_2_sigma}};
+}
+
 void RunCalibrateRig(const CalibrateRigArgs& args) {
   if (args.stations.size() != 1)
     throw CommandError("calibrate rig: one station at a time for now (given " +
@@ -67,15 +75,15 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
   if (!out.Check(&why))
     throw CommandError("calibrate rig: the adjusted stage is not valid: " + why);
   if (Status s = SaveCalibrationYaml(out, args.out); !s) throw CommandError(s.error());
-  const double seam_before = SeamMedianPx(tie, tie.calibration.stage);
-  const double seam_after = SeamMedianPx(tie, r->stage);
+  const RigSeams before = MeasureRigSeams(tie, tie.calibration.stage, *r);
+  const RigSeams after = MeasureRigSeams(tie, r->stage, *r);
   const nlohmann::json j = {{"station", args.stations[0]},
                             {"tie_points", tie.points.size()},
                             {"observations", r->observations},
                             {"rejected", r->rejected},
                             {"rms_px", r->rms_px},
                             {"image_sigma_px", r->image_sigma_px},
-                            {"seam_median_px", {{"before", seam_before}, {"after", seam_after}}},
+                            {"seams", {{"before", SeamsJson(before)}, {"after", SeamsJson(after)}}},
                             {"parameters", ParametersJson(tie.calibration.stage, *r)},
                             {"undetermined", r->undetermined},
                             {"out", args.out}};
@@ -85,7 +93,9 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
   }
   std::printf("%zu tie points, %d observations (%d rejected), RMS %.3f px\n", tie.points.size(),
               r->observations, r->rejected, r->rms_px);
-  std::printf("seams (median): %.2f px before, %.2f px after\n", seam_before, seam_after);
+  for (const auto& [when, seams] : {std::pair{"before", &before}, std::pair{"after", &after}})
+    std::printf("seams %s: median %.2f px (%.1f mm), %.1f %% within 2 of their predicted sigma\n",
+                when, seams->median_px, seams->median_mm, 100 * seams->within_2_sigma);
   const StageVector b = StageVectorOf(tie.calibration.stage), a = StageVectorOf(r->stage);
   for (int i = 0; i < kStageParameterCount; ++i)
     if (r->sigma[i] > 0.0)

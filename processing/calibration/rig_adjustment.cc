@@ -336,35 +336,6 @@ bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares, do
   return changed;
 }
 
-double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage) {
-  Calibration moved = in.calibration;
-  moved.stage = stage;
-  const auto camera_pose = [](const Calibration& c, const RigPose& pose) {
-    return c.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
-  };
-  std::vector<int> first_pose(in.points.size(), -1);
-  for (const RigTieObservation& t : in.observations)
-    if (first_pose[t.point] < 0) first_pose[t.point] = t.pose;
-  const StageVector v = StageVectorOf(stage);
-  const std::array<double, 2> no_correction = {0.0, 0.0};
-  std::vector<double> distances;
-  for (const RigTieObservation& t : in.observations) {
-    const int k = first_pose[t.point];
-    if (t.pose == k) continue;
-    const Eigen::Vector3d point =
-        camera_pose(moved, in.poses[k]) *
-        (camera_pose(in.calibration, in.poses[k]).inverse() * in.points[t.point]);
-    double residual[2];
-    if (!TieCost::Residual(in.calibration, t, in.poses[t.pose], v.data(), no_correction.data(),
-                           point.data(), residual))
-      continue;
-    distances.push_back(std::hypot(residual[0], residual[1]));
-  }
-  if (distances.empty()) return 0.0;
-  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-  return distances[distances.size() / 2];
-}
-
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmentOptions& o) {
   std::string why;
   if (!o.Check(&why)) return Error{"rig adjustment: " + why};
@@ -386,6 +357,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
     BuildProblem(in, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
+    const std::vector<char> problem_rejected = rejected;
     if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
     double squares = 0.0;
@@ -408,6 +380,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       continue;
     }
     r.observations = kept;
+    r.rejected_observation = problem_rejected;
     r.rejected = static_cast<int>(in.observations.size()) - kept;
     const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, held, &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};

@@ -70,6 +70,8 @@ struct RigAdjustmentInput {
   std::vector<RigPose> poses;
   std::vector<RigTieObservation> observations;
   std::vector<Eigen::Vector3d> points;  // each tie point's start in L
+  // Its covariance from its pair's intersection (m^2, in L), for the seams' predicted sigma.
+  std::vector<Eigen::Matrix3d> point_covariance_m2;
   // Levelling read by the inclinometer (deg, about L's X and Y).
   std::optional<Eigen::Vector2d> inclinometer_deg;
 };
@@ -85,14 +87,9 @@ struct RigAdjustment {
   double rms_px = 0.0;                  // over the image observations kept
   int observations = 0;                 // image observations kept
   int rejected = 0;                     // off by more than 4 sigma: mismatched tie points
+  std::vector<char> rejected_observation;  // per input observation
   std::vector<Eigen::Vector3d> points;  // adjusted, in L
 };
-
-// The seams: how far, in pixels (the median, which mismatched tie points do not move), a
-// neighbouring pose sees each tie point from where the pose that first observed it puts it (its
-// stereo point taken into L by `stage` instead of the input calibration's stage). Before an
-// adjustment: SeamMedianPx(in, in.calibration.stage).
-double SeamMedianPx(const RigAdjustmentInput& in, const StageKinematics& stage);
 
 // Needs observations of at least one point from two poses.
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& input,

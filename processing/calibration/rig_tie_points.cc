@@ -111,10 +111,13 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
     for (size_t j = 0; j < pairs.size(); ++j) {
       if (j == k) continue;
       std::vector<Candidate> candidates;
+      std::vector<Eigen::Matrix3d> covariances;
       for (const CloudPoint& p : matched[k].cloud)
         if (auto c = Predict(left, views[k], views[j], p.position_m);
-            c && left.InImage(c->predicted))
+            c && left.InImage(c->predicted)) {
           candidates.push_back(*c);
+          covariances.push_back(p.covariance_m2.cast<double>());
+        }
       if (static_cast<int>(candidates.size()) < o.min_candidates) continue;
       const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
       const Eigen::Isometry3d right_from_l =
@@ -125,10 +128,12 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
         Eigen::Vector2d in_right;
         if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
         const int point = static_cast<int>(input.points.size());
+        const int from = static_cast<int>(k), to = static_cast<int>(j);
         input.points.push_back(c.point);
-        input.observations.push_back({static_cast<int>(k), Side::kLeft, point, c.centre});
-        input.observations.push_back({static_cast<int>(k), Side::kRight, point, in_right, true});
-        input.observations.push_back({static_cast<int>(j), Side::kLeft, point, *found});
+        input.point_covariance_m2.push_back(covariances[i]);
+        input.observations.push_back({from, Side::kLeft, point, c.centre});
+        input.observations.push_back({from, Side::kRight, point, in_right, true});
+        input.observations.push_back({to, Side::kLeft, point, *found});
       }
     }
   return input;

@@ -1,0 +1,75 @@
+#include "processing/calibration/rig_seams.h"
+
+#include <algorithm>
+
+#include "processing/geometry/camera_model.h"
+
+namespace ts {
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& stage,
+                         const RigAdjustment& adjustment) {
+  const double image_sigma_px = adjustment.image_sigma_px;
+  Calibration moved = in.calibration;
+  moved.stage = stage;
+  const CameraModel left(in.calibration.rig.left);
+  const double c = in.calibration.rig.left.principal_distance_px;
+  const auto l_from_left = [](const Calibration& calibration, const RigPose& pose) {
+    return calibration.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
+  };
+  std::vector<int> first_pose(in.points.size(), -1);
+  std::vector<char> mismatched(in.points.size(), 0);
+  for (size_t i = 0; i < in.observations.size(); ++i) {
+    const RigTieObservation& t = in.observations[i];
+    if (first_pose[t.point] < 0) first_pose[t.point] = t.pose;
+    if (i < adjustment.rejected_observation.size() && adjustment.rejected_observation[i])
+      mismatched[t.point] = 1;
+  }
+  RigSeams seams;
+  std::vector<double> px, mm;
+  int within = 0;
+  for (const RigTieObservation& t : in.observations) {
+    const int k = first_pose[t.point];
+    if (t.pose == k || t.side != Side::kLeft || mismatched[t.point]) continue;
+    // The pair's point, moved with its pose from the input's stage to `stage`.
+    const Eigen::Isometry3d move =
+        l_from_left(moved, in.poses[k]) * l_from_left(in.calibration, in.poses[k]).inverse();
+    const Eigen::Vector3d point = move * in.points[t.point];
+    const Eigen::Isometry3d camera_from_l = l_from_left(moved, in.poses[t.pose]).inverse();
+    const Eigen::Vector3d in_camera = camera_from_l * point;
+    Eigen::Vector2d projected;
+    CameraModel::Jacobian2x3 d_pixel;
+    if (!left.Project(in_camera, &projected, &d_pixel)) continue;
+    // The disagreement is the difference of two image measurements, the pair's and the
+    // neighbour's, each with the image sigma.
+    Eigen::Matrix2d predicted = 2.0 * image_sigma_px * image_sigma_px * Eigen::Matrix2d::Identity();
+    if (static_cast<size_t>(t.point) < in.point_covariance_m2.size()) {
+      const Eigen::Matrix<double, 2, 3> d = d_pixel * camera_from_l.linear() * move.linear();
+      predicted += d * in.point_covariance_m2[t.point] * d.transpose();
+    }
+    RigSeamTie tie;
+    tie.pose = t.pose;
+    tie.pixel = t.pixel;
+    tie.disagreement_px = projected - t.pixel;
+    const double length = tie.disagreement_px.norm();
+    tie.ratio = predicted.trace() > 0.0 ? length / std::sqrt(predicted.trace()) : 0.0;
+    within += tie.ratio <= 2.0;
+    px.push_back(length);
+    mm.push_back(1e3 * length * in_camera.norm() / c);
+    seams.ties.push_back(tie);
+  }
+  seams.median_px = Median(px);
+  seams.median_mm = Median(mm);
+  if (!seams.ties.empty()) seams.within_2_sigma = static_cast<double>(within) / seams.ties.size();
+  return seams;
+}
+
+}  // namespace ts
