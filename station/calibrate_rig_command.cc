@@ -1,14 +1,13 @@
 // `calibrate rig STATION --calibration CAL.yaml --out CAL.yaml` (issue 21): the stage
 // kinematics refined on a captured panorama's own tie points, the cameras and the stereo pair
-// held (processing/calibration/rig_adjustment.h).
+// held (processing/pipeline/rig_check.h, the same check `process` makes).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "processing/calibration/rig_seams.h"
-#include "processing/calibration/rig_tie_points.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/matching/rectification.h"
+#include "processing/pipeline/rig_check.h"
 #include "processing/pipeline/station_inputs.h"
 #include "station/commands.h"
 
@@ -21,16 +20,10 @@ struct CalibrateRigArgs {
   bool json = false;
 };
 
-// The station's pairs and the calibration to refine, its levelling the station's own
-// inclinometer reading (capture records it in the manifest).
-RigAdjustmentInput TiePointsOf(const std::string& station, const std::string& calibration_file) {
+RigCheck CheckStation(const std::string& station, const std::string& calibration_file) {
   const Result<StationInputs> in = LoadStationInputs(station, calibration_file, "");
   if (!in) throw CommandError(in.error());
-  Calibration calibration = in->calibration;
-  const StageKinematics& read = in->manifest.calibration.stage;
-  calibration.stage.levelling_x_deg = read.levelling_x_deg;
-  calibration.stage.levelling_y_deg = read.levelling_y_deg;
-  calibration.stage.height_above_mark_m = read.height_above_mark_m;
+  const Calibration start = StationStart(in->calibration, in->manifest);
   std::vector<StereoPairImages> pairs;
   for (const PairRecord& p : in->manifest.pairs) {
     Result<StereoPairImages> images = LoadPairImages(*in, p);
@@ -39,69 +32,48 @@ RigAdjustmentInput TiePointsOf(const std::string& station, const std::string& ca
   }
   if (pairs.size() < 2) throw CommandError(station + ": fewer than two pairs: nothing to tie");
   const std::vector<MatchedPair> matched =
-      MatchPairsIntoL(calibration, Rectify(calibration.rig), pairs, PairMatchOptions::ForStation());
-  RigAdjustmentInput tie = FindRigTiePoints(calibration, pairs, matched, {});
-  tie.inclinometer_deg = Eigen::Vector2d(read.levelling_x_deg, read.levelling_y_deg);
-  return tie;
+      MatchPairsIntoL(start, Rectify(start.rig), pairs, PairMatchOptions::ForStation());
+  const Result<RigCheck> check = CheckRig(start, pairs, matched, {}, {});
+  if (!check) throw CommandError(station + ": " + check.error());
+  return *check;
 }
 
-nlohmann::json ParametersJson(const StageKinematics& before, const RigAdjustment& r) {
-  const StageVector b = StageVectorOf(before), a = StageVectorOf(r.stage);
-  nlohmann::json j = nlohmann::json::object();
-  for (int i = 0; i < kStageParameterCount; ++i)
-    j[kStageParameterNames[i]] = {
-        {"value", a[i]}, {"sigma", r.sigma[i]}, {"change", a[i] - b[i]}, {"held", r.sigma[i] == 0}};
-  return j;
-}
-
-nlohmann::json SeamsJson(const RigSeams& s) {
-  return {{"ties", s.ties.size()},
-          {"median_px", s.median_px},
-          {"median_mm", s.median_mm},
-          {"within_2_sigma", s.within_2_sigma}};
+void PrintSeams(const char* when, const RigSeams& seams) {
+  std::printf("seams %s: median %.2f px (%.1f mm), %.1f %% within 2 of their predicted sigma\n",
+              when, seams.median_px, seams.median_mm, 100 * seams.within_2_sigma);
 }
 
 void RunCalibrateRig(const CalibrateRigArgs& args) {
   if (args.stations.size() != 1)
     throw CommandError("calibrate rig: one station at a time for now (given " +
                        std::to_string(args.stations.size()) + ")");
-  const RigAdjustmentInput tie = TiePointsOf(args.stations[0], args.calibration);
-  const Result<RigAdjustment> r = AdjustRig(tie, {});
-  if (!r) throw CommandError(args.stations[0] + ": " + r.error());
-  Calibration out = tie.calibration;
-  out.stage = r->stage;
-  out.stage.height_above_mark_m = tie.calibration.stage.height_above_mark_m;
+  const Result<Calibration> given = LoadCalibrationYaml(args.calibration);
+  if (!given) throw CommandError(given.error());
+  const RigCheck check = CheckStation(args.stations[0], args.calibration);
+  const RigAdjustment& r = check.adjustment;
+  Calibration out = *given;
+  out.stage = r.stage;
   std::string why;
   if (!out.Check(&why))
     throw CommandError("calibrate rig: the adjusted stage is not valid: " + why);
   if (Status s = SaveCalibrationYaml(out, args.out); !s) throw CommandError(s.error());
-  const RigSeams before = MeasureRigSeams(tie, tie.calibration.stage, *r);
-  const RigSeams after = MeasureRigSeams(tie, r->stage, *r);
-  const nlohmann::json j = {{"station", args.stations[0]},
-                            {"tie_points", tie.points.size()},
-                            {"observations", r->observations},
-                            {"rejected", r->rejected},
-                            {"rms_px", r->rms_px},
-                            {"image_sigma_px", r->image_sigma_px},
-                            {"seams", {{"before", SeamsJson(before)}, {"after", SeamsJson(after)}}},
-                            {"parameters", ParametersJson(tie.calibration.stage, *r)},
-                            {"undetermined", r->undetermined},
-                            {"out", args.out}};
+  nlohmann::json j = RigCheckJson(check, true);
+  j["station"] = args.stations[0];
+  j["out"] = args.out;
   if (args.json) {
     std::printf("%s\n", j.dump().c_str());
     return;
   }
-  std::printf("%zu tie points, %d observations (%d rejected), RMS %.3f px\n", tie.points.size(),
-              r->observations, r->rejected, r->rms_px);
-  for (const auto& [when, seams] : {std::pair{"before", &before}, std::pair{"after", &after}})
-    std::printf("seams %s: median %.2f px (%.1f mm), %.1f %% within 2 of their predicted sigma\n",
-                when, seams->median_px, seams->median_mm, 100 * seams->within_2_sigma);
-  const StageVector b = StageVectorOf(tie.calibration.stage), a = StageVectorOf(r->stage);
+  std::printf("%d tie points, %d observations (%d rejected), RMS %.3f px\n", check.tie_points,
+              r.observations, r.rejected, r.rms_px);
+  PrintSeams("before", check.before);
+  PrintSeams("after", check.after);
+  const StageVector b = StageVectorOf(check.start), a = StageVectorOf(r.stage);
   for (int i = 0; i < kStageParameterCount; ++i)
-    if (r->sigma[i] > 0.0)
+    if (r.sigma[i] > 0.0)
       std::printf("  %-22s %+.5f +- %.5f (change %+.5f)\n", kStageParameterNames[i], a[i],
-                  r->sigma[i], a[i] - b[i]);
-  for (const std::string& w : r->undetermined) std::printf("  %s\n", w.c_str());
+                  r.sigma[i], a[i] - b[i]);
+  for (const std::string& w : r.undetermined) std::printf("  %s\n", w.c_str());
   std::printf("written %s\n", args.out.c_str());
 }
 

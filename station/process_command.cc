@@ -154,6 +154,7 @@ void AddProcessCommands(CLI::App& app) {
   p->add_option("station", process->station, "station directory")->required();
   AddDeclaredOption(p, "--calibration", process->options, "calibration_file");
   AddDeclaredOption(p, "--gcps", process->options, "gcp_file");
+  AddDeclaredOption(p, "--self-calibrate-rig", process->options, "self_calibrate_rig");
   AddDeclaredOption(p, "--half-size-m", process->options, "dem_half_size_m");
   AddDeclaredOption(p, "--max-distance-m", process->options, "kriging.max_distance_m");
   AddDeclaredOption(p, "--object-shadow-reach-m", process->options,

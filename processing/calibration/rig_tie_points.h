@@ -17,7 +17,7 @@
 namespace ts {
 
 struct RigTiePointOptions {
-  int max_per_neighbour = 200;  // tie points sought between a pair and one neighbour
+  int max_per_neighbour = 100;  // tie points sought between a pair and one neighbour
   double search_px = 25.0;      // a stage off by 0.5 deg moves a prediction by 16 px
   int half_window_px = 10;
   double min_correlation = 0.8;

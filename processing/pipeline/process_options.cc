@@ -5,7 +5,11 @@ namespace ts {
 bool ProcessOptions::Check(std::string* why) const {
   if (!CheckDeclaredOptions(*this, why)) return false;
   std::string err;
-  if (!matching.Check(&err))
+  if (!rig_ties.Check(&err))
+    err = "rig tie points: " + err;
+  else if (!rig_adjustment.Check(&err))
+    err = "rig adjustment: " + err;
+  else if (!matching.Check(&err))
     err = "matching: " + err;
   else if (!blunders.Check(&err))
     err = "blunder filter: " + err;

@@ -7,6 +7,8 @@
 
 #include "core/options.h"
 
+#include "processing/calibration/rig_adjustment.h"
+#include "processing/calibration/rig_tie_points.h"
 #include "processing/cloud/ground_filter.h"
 #include "processing/cloud/height_blunder_filter.h"
 #include "processing/cloud/sight_line_objects.h"
@@ -25,6 +27,9 @@ struct ProcessOptions {
   double dem_half_size_m = 30.0;  // the DEM covers the square of 2 x this around the station
   double dem_cell_m = 1.0;
   double cloud_margin_m = 10.0;  // points this far beyond the square still inform the DEM
+  bool self_calibrate_rig = false;  // go on with the stage adjusted on the station's own seams
+  RigTiePointOptions rig_ties;
+  RigAdjustmentOptions rig_adjustment;
   PairMatchOptions matching = PairMatchOptions::ForStation();
   HeightBlunderOptions blunders;
   SightLineOptions sight_lines;
@@ -42,6 +47,10 @@ struct ProcessOptions {
     v("dem_cell_m", self.dem_cell_m, {"DEM cell size", "m", 0.1, 10});
     v("cloud_margin_m", self.cloud_margin_m,
       {"points this far beyond the square still inform the DEM", "m", 0, 100});
+    v("self_calibrate_rig", self.self_calibrate_rig,
+      {"refine the stage kinematics on the station's own panorama"});
+    v.Group("rig_ties", self.rig_ties);
+    v.Group("rig_adjustment", self.rig_adjustment);
     v.Group("matching", self.matching);
     v.Group("blunders", self.blunders);
     v.Group("sight_lines", self.sight_lines);

@@ -47,6 +47,7 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   report["station"] = in.manifest.station_id;
   report["software"] = {{"name", "topostation"}, {"version", SoftwareVersion()}};
   report["calibration"] = {{"source", in.calibration_source}, {"sha256", in.calibration_sha256}};
+  if (!w.rig_check.is_null()) report["rig"] = w.rig_check;
   report["frame"] = in.georeference ? "projected CRS (GCPs)" : "station frame L";
   report["station_mark"] = {w.mark_dem.x(), w.mark_dem.y(), w.mark_dem.z()};
   report["terrain_correction_mgal"] = w.terrain_correction.total_mgal;

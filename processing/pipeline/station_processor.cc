@@ -3,9 +3,14 @@
 #include <algorithm>
 #include <atomic>
 
+#include <fmt/format.h>
+
 #include "processing/io/atomic_file.h"
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/sha256.h"
 #include "processing/pipeline/process_report.h"
 #include "processing/pipeline/products.h"
+#include "processing/pipeline/rig_check.h"
 
 namespace ts {
 namespace {
@@ -23,8 +28,14 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"products", [](const ProcessOptions& o, StationWork* w,
                     StepSummary* s) { return WriteProducts(o, *w, s); }},
 };
-// With load, matching and report.
-constexpr int kStepCount = 3 + static_cast<int>(std::size(kStationSteps));
+// With load, matching, rig and report.
+constexpr int kStepCount = 4 + static_cast<int>(std::size(kStationSteps));
+
+std::string SeamsLine(const RigSeams& seams) {
+  return fmt::format("{:.0f} % of {} tie points within 2 of their predicted sigma (median {:.2f} px, {:.1f} mm)",
+                     100 * seams.within_2_sigma, seams.ties.size(), seams.median_px,
+                     seams.median_mm);
+}
 
 }  // namespace
 
@@ -178,6 +189,73 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
   return true;
 }
 
+bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s) {
+  std::vector<PairRecord> records = in->manifest.pairs;
+  std::sort(records.begin(), records.end(),
+            [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
+  if (records.size() < 2) {
+    s->warnings.push_back("rig not checked: one pair has no seams");
+    return true;
+  }
+  std::vector<StereoPairImages> images(records.size());
+  std::vector<std::string> errors(records.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(records.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      Result<StereoPairImages> loaded = LoadPairImages(*in, records[i]);
+      if (loaded)
+        images[i] = std::move(*loaded);
+      else
+        errors[i] = loaded.error();
+    }
+  });
+  for (const std::string& e : errors)
+    if (!e.empty()) return s->message = e, false;
+  const Calibration start = StationStart(in->calibration, in->manifest);
+  std::vector<MatchedPair> matched;
+  for (const PairRecord& p : records) {
+    matched.push_back(matched_.at(p.index));
+    MovePairPoints(in->calibration, start, &matched.back());
+  }
+  const Result<RigCheck> check =
+      CheckRig(start, images, matched, options_.rig_ties, options_.rig_adjustment);
+  if (!check) {
+    s->warnings.push_back("rig not checked: " + check.error());
+    return true;
+  }
+  const bool used = options_.self_calibrate_rig;
+  w->rig_check = RigCheckJson(*check, used);
+  s->counts = {{"rig_tie_points", check->tie_points},
+               {"seams_within_2_sigma", check->before.within_2_sigma}};
+  if (!used) {
+    if (!check->SeamsClose())
+      s->warnings.push_back("the seams do not close: " + SeamsLine(check->before) +
+                            "; the stage has moved since its calibration: process with "
+                            "--self-calibrate-rig, or calibrate rig");
+    return true;
+  }
+  if (check->after.within_2_sigma < RigCheck::kClosedShare)
+    s->warnings.push_back("the seams do not close after the rig's self-calibration: " +
+                          SeamsLine(check->after));
+  Calibration refined = start;
+  refined.stage = check->adjustment.stage;
+  for (auto& [index, pair] : matched_) MovePairPoints(in->calibration, refined, &pair);
+  w->cloud.clear();
+  for (const PairRecord& p : records) {
+    const PointCloud& cloud = matched_.at(p.index).cloud;
+    w->cloud.insert(w->cloud.end(), cloud.begin(), cloud.end());
+  }
+  for (StereoPairImages& p : images) p.right = cv::Mat();
+  PanoramaBuilder panorama(refined, options_.panorama);
+  panorama.Add(images);
+  w->panorama = panorama.Image();
+  in->calibration = refined;
+  in->calibration_source += " (stage self-calibrated)";
+  in->calibration_sha256 = Sha256Hex(CalibrationToYaml(refined));
+  std::lock_guard lock(mutex_);
+  worker_calibration_sha256_ = in->calibration_sha256;
+  return true;
+}
+
 Result<ProcessResult> StationProcessor::Finish() {
   summary_ = {};
   StepRunner run(control_, kStepCount, &summary_);
@@ -199,6 +277,7 @@ Result<ProcessResult> StationProcessor::Finish() {
     return true;
   });
   run.Run("matching", [&](StepSummary* s) { return MatchPairs(&run, &work, s); });
+  run.Run("rig", [&](StepSummary* s) { return CheckRigStep(&*inputs, &work, s); });
   for (const auto& [name, step] : kStationSteps)
     run.Run(name, [&, step = step](StepSummary* s) { return step(options_, &work, s); });
   nlohmann::json report;

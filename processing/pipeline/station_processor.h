@@ -58,6 +58,9 @@ class StationProcessor {
   };
   void Work();
   bool MatchPairs(StepRunner* run, StationWork* w, StepSummary* s);
+  // The stage checked on the matched pairs' seams (rig_check.h); with self_calibrate_rig the
+  // pairs' points, the panorama and `in`'s calibration move to the adjusted stage.
+  bool CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s);
 
   const std::string dir_;
   const ProcessOptions options_;

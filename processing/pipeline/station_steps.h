@@ -7,6 +7,7 @@
 // failure; processing code below may throw, which the StepRunner catches.
 #include <Eigen/Core>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "processing/cloud/point_cloud.h"
@@ -44,6 +45,7 @@ struct StationWork {
   KrigingResult kriged;
   double coverage_30m = 0.0, coverage_square = 0.0;
   TerrainCorrection terrain_correction;
+  nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams
 };
 
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s);

@@ -1,0 +1,52 @@
+#pragma once
+// The rig checked on every station's own panorama (issue 21): tie points between the pairs'
+// overlaps (rig_tie_points.h), the stage kinematics adjusted on them (rig_adjustment.h) and the
+// seams measured before and after (rig_seams.h). `process` always checks, and warns when the
+// seams of the calibration it was given do not close (a bumped tripod, a stage that moved on
+// its mount); with --self-calibrate-rig it goes on with the adjusted stage.
+//
+// The levelling and the height above the mark belong to the station, not to the rig: the
+// start takes them from the manifest (the inclinometer's reading at capture, which is also
+// the levelling's observation, and the height measured there).
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "core/result.h"
+#include "processing/calibration/rig_adjustment.h"
+#include "processing/calibration/rig_seams.h"
+#include "processing/calibration/rig_tie_points.h"
+#include "processing/io/station_manifest.h"
+#include "processing/matching/station_matching.h"
+
+namespace ts {
+
+struct RigCheck {
+  StageKinematics start;  // the calibration's stage with the station's levelling and height
+  RigAdjustment adjustment;
+  RigSeams before, after;
+  int tie_points = 0;
+  // The seams of the start close: at least this share of the tie points within 2 of their
+  // predicted sigma (a 2D normal error gives 98 %; real tie points, with their heavier tail,
+  // 94-96 % on the true calibration).
+  static constexpr double kClosedShare = 0.9;
+  bool SeamsClose() const { return before.within_2_sigma >= kClosedShare; }
+};
+
+// The calibration's stage with the manifest's levelling and height above the mark.
+Calibration StationStart(const Calibration& calibration, const StationManifest& manifest);
+
+// pairs (left images needed) and matched in the same order, matched with `start`.
+Result<RigCheck> CheckRig(const Calibration& start, const std::vector<StereoPairImages>& pairs,
+                          const std::vector<MatchedPair>& matched,
+                          const RigTiePointOptions& tie_options,
+                          const RigAdjustmentOptions& adjustment_options);
+
+// What report.json records: each parameter with its sigma and change, what was held, the
+// seams before and after, and whether the adjusted stage was used.
+nlohmann::json RigCheckJson(const RigCheck& check, bool used);
+
+// A matched pair's points (and covariances), taken into L with `from`'s stage, moved to
+// where `to`'s stage puts them.
+void MovePairPoints(const Calibration& from, const Calibration& to, MatchedPair* pair);
+
+}  // namespace ts
