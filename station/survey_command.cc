@@ -1,8 +1,15 @@
 // topostation survey --sim [--scene NAME | --dem FILE] --out STATION [--truth DIR]: the main
-// job end to end on the simulated station. Serves the simulated cameras and stage on loopback
-// (in a private network namespace it makes itself), captures the panorama over the real
-// drivers (Aravis, libmodbus), processes it into the products and, since the truth is known,
-// evaluates the DEM against it.
+// job end to end on the simulated station, as a field team runs it (issue 21): the rig is
+// calibrated at a simulated control field (`calibrate stereo`, run as the team runs it, the
+// stage's design values kept), then the simulated cameras and stage are served on loopback
+// (in a private network namespace it makes itself), the panorama is captured over the real
+// drivers (Aravis, libmodbus), processed with the stage self-calibrated on its own seams, and,
+// since the truth is known, the DEM is evaluated against it. --true-calibration (for
+// benchmarks that isolate matching from calibration) and --nominal-calibration skip the
+// session.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -10,6 +17,8 @@
 #include <filesystem>
 #include <memory>
 
+#include "processing/io/calibration_yaml.h"
+#include "sim/calibration_field.h"
 #include "sim/sim_server.h"
 #include "sim/sim_station.h"
 #include "sim/truth.h"
@@ -27,10 +36,52 @@ struct SurveyArgs {
   std::string out;
   std::string truth;
   bool nominal_calibration = false;
+  bool true_calibration = false;
   CaptureOptions capture = CaptureOptions::ForSimulatedGround();
   bool single_row = false;
   bool json = false;
 };
+
+// Runs this program with `args`, its output to `log`; throws with the log's path on failure.
+void RunSelf(const std::vector<std::string>& args, const std::string& log) {
+  char exe[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) throw CommandError("cannot find this program (/proc/self/exe)");
+  exe[n] = '\0';
+  std::vector<char*> argv = {exe};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, exe, &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  int status = 0;
+  if (spawned != 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
+      WEXITSTATUS(status) != 0)
+    throw CommandError(args[0] + " " + args[1] + " failed: see " + log);
+}
+
+// The field team's calibration: a session at a control field of the station's true rig, and
+// `calibrate stereo` on it with the stage's design values (the stage is self-calibrated at
+// the station). Returns the calibration file.
+std::string CalibrateAtAField(const sim::SimStation& station, const std::string& dir,
+                              const std::string& truth_dir) {
+  const std::string session = dir + "/session", out = dir + "/calibration.yaml";
+  if (Status s = sim::WriteFieldSession(station.rig, station.scene.seed, {}, session,
+                                        truth_dir + "/calibration-session");
+      !s)
+    throw CommandError(s.error());
+  RunSelf({"calibrate", "stereo", "--left", session + "/left/*.png", "--right",
+           session + "/right/*.png", "--control-field", session + "/field.yaml", "--marks",
+           session + "/marks.yaml", "--start", session + "/design.yaml", "--stage-from",
+           session + "/design.yaml", "--out", out},
+          dir + "/calibrate.log");
+  return out;
+}
 
 void RunSurvey(const SurveyArgs& args) {
   if (!args.sim)
@@ -54,12 +105,29 @@ void RunSurvey(const SurveyArgs& args) {
   auto server = sim::SimServer::Start(*station, serve);
   if (!server) throw CommandError(server.error());
 
+  if (args.nominal_calibration && args.true_calibration)
+    throw CommandError("survey: --nominal-calibration or --true-calibration, not both");
+  ProcessOptions process;
+  std::string calibration_used;
   RigConfig rig;
+  if (args.nominal_calibration) {
+    rig.calibration = (*station)->rig.nominal;
+    calibration_used = "the rig's design values";
+  } else if (args.true_calibration) {
+    rig.calibration = (*station)->rig.truth;
+    process.calibration_file = truth_dir + "/calibration.yaml";
+    calibration_used = "the simulator's true calibration";
+  } else {
+    process.calibration_file = CalibrateAtAField(**station, args.out + "-calibration", truth_dir);
+    const Result<Calibration> calibrated = LoadCalibrationYaml(process.calibration_file);
+    if (!calibrated) throw CommandError(calibrated.error());
+    rig.calibration = *calibrated;
+    process.self_calibrate_rig = true;
+    calibration_used = "estimated: a control-field session (" + process.calibration_file +
+                       "), the stage self-calibrated on the station's seams";
+  }
   rig.name = "simulated-rig";
   rig.file = "(survey --sim)";
-  // The rig knows its calibration: the simulator's true one stands in for a field calibration
-  // (below); the capture needs it to judge where the terrain goes on above a view.
-  rig.calibration = args.nominal_calibration ? (*station)->rig.nominal : (*station)->rig.truth;
   rig.left_camera.id = serve.left_serial;
   rig.right_camera.id = serve.right_serial;
   rig.stage.host = serve.stage_address;
@@ -67,10 +135,6 @@ void RunSurvey(const SurveyArgs& args) {
   CaptureOptions capture = args.capture;
   capture.plan.upper_poses = !args.single_row;
 
-  ProcessOptions process;
-  // Until the calibration commands exist, the simulator's true calibration stands in for a
-  // field calibration (issue 6); --nominal-calibration shows what the design values give.
-  if (!args.nominal_calibration) process.calibration_file = truth_dir + "/calibration.yaml";
   // Each pair is matched while the stage moves to the next: the products follow the last pair
   // by the station-wide steps only.
   StationProcessor processor(args.out, process);
@@ -91,6 +155,7 @@ void RunSurvey(const SurveyArgs& args) {
   if (args.json) {
     std::printf("%s\n", nlohmann::json{{"station", args.out},
                                        {"truth", truth_dir},
+                                       {"calibration", calibration_used},
                                        {"capture_s", captured.seconds},
                                        {"process_s", report["wall_s"]},
                                        {"products_after_last_pair_s", after_last_pair_s},
@@ -108,6 +173,7 @@ void RunSurvey(const SurveyArgs& args) {
       "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
       "terrain_correction.json, report.json); truth: %s\n",
       args.out.c_str(), truth_dir.c_str());
+  std::printf("calibration: %s\n", calibration_used.c_str());
   PrintEvaluation(evaluation);  // the warnings went to the log as they came
 }
 
@@ -123,8 +189,10 @@ void AddSurveyCommand(CLI::App& app) {
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
   AddDeclaredOption(s, "--exposure-us", args->capture, "initial_exposure_us");
   s->add_flag("--nominal-calibration", args->nominal_calibration,
-              "capture and process with the rig's design values instead of the simulator's true "
-              "calibration");
+              "capture and process with the rig's design values (no calibration session)");
+  s->add_flag("--true-calibration", args->true_calibration,
+              "capture and process with the simulator's true calibration (no calibration "
+              "session, no self-calibration): isolates matching from calibration");
   s->add_flag("--single-row", args->single_row,
               "no poses higher up where the terrain goes on above a view");
   s->add_flag("--json", args->json, "print the summary as JSON");
