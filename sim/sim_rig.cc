@@ -69,4 +69,11 @@ SimRig MakeSimRig(uint64_t seed, double stage_height_m) {
   return rig;
 }
 
+void BumpTripod(SimRig* rig, double tilt_zero_deg, double levelling_x_deg) {
+  rig->truth.stage.tilt_zero_deg += tilt_zero_deg;
+  rig->truth.stage.levelling_x_deg += levelling_x_deg;
+  rig->inclinometer_x_deg += levelling_x_deg;
+  rig->nominal.stage.levelling_x_deg = rig->inclinometer_x_deg;
+}
+
 }  // namespace ts::sim

@@ -26,6 +26,9 @@ struct SimRig {
 };
 
 SimRig MakeSimRig(uint64_t seed, double stage_height_m);
+// The tripod bumped after the rig's calibration (issue 21): the tilt encoder's zero and the
+// levelling about L's X shift; the inclinometer sees the new levelling, nothing sees the zero.
+void BumpTripod(SimRig* rig, double tilt_zero_deg, double levelling_x_deg);
 // The design calibration of the simulated rig (what `nominal` starts from).
 Calibration DesignCalibration(double stage_height_m);
 

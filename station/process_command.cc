@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include "processing/cloud/ground_filter.h"
@@ -113,6 +114,19 @@ void PrintEvaluation(const nlohmann::json& j) {
       j["terrain_correction_error_mgal"].get<double>());
 }
 
+// The pan zero the station was processed with (products/report.json).
+double ProcessedPanZeroDeg(const std::string& station) {
+  const std::string file = station + "/products/report.json";
+  std::ifstream in(file);
+  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json* pan_zero = report.is_object() && report.contains("calibration")
+                                       ? &report["calibration"]["pan_zero_deg"]
+                                       : nullptr;
+  if (!pan_zero || !pan_zero->is_number())
+    throw CommandError(file + ": calibration.pan_zero_deg: missing (process the station again)");
+  return pan_zero->get<double>();
+}
+
 nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& truth_dir) {
   const DemInput in = LoadDemInput(station);
   const Raster& dem = in.dem;
@@ -126,19 +140,25 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   const Result<Calibration> calibration = LoadCalibrationYaml(truth_dir + "/calibration.yaml");
   if (!calibration) throw CommandError(calibration.error());
   const Eigen::Vector2d station_xy = calibration->stage.StationMarkInL().head<2>();
-  const DemEvaluation e = EvaluateDem(dem, *truth, station_xy, std_dev);
+  // The station frame's azimuth is the pan encoder's zero of the calibration it was processed
+  // with, which no panorama shows and the terrain correction does not depend on: the truth is
+  // compared turned into it.
+  const double turn_deg = calibration->stage.pan_zero_deg - ProcessedPanZeroDeg(station);
+  const Raster truth_on_grid = truth->ResampledOnto(dem, turn_deg);
+  const DemEvaluation e = EvaluateDem(dem, truth_on_grid, station_xy, std_dev);
   if (e.cells_compared == 0)
     throw CommandError(station + "/products/dem.tif: no cell overlaps the truth DEM " + truth_dir +
                        "/dem.tif");
   nlohmann::json j = e.ToJson();
   j["truth"] = truth_dir;
+  j["azimuth_datum_deg"] = turn_deg;
   // The terrain correction from this DEM against the one from the true bare earth on the
   // same grid, both at the true mark.
   const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
   const TerrainCorrectionOptions tc_options;
   const TerrainCorrection ours = ComputeTerrainCorrection(dem, std_dev, mark, tc_options);
   const TerrainCorrection truth_tc =
-      ComputeTerrainCorrection(truth->ResampledOnto(dem), nullptr, mark, tc_options);
+      ComputeTerrainCorrection(truth_on_grid, nullptr, mark, tc_options);
   j["terrain_correction_mgal"] = ours.total_mgal;
   j["terrain_correction_sigma_mgal"] = ours.sigma_mgal;
   j["terrain_correction_true_mgal"] = truth_tc.total_mgal;

@@ -37,6 +37,8 @@ struct SurveyArgs {
   std::string truth;
   bool nominal_calibration = false;
   bool true_calibration = false;
+  bool no_self_calibration = false;
+  bool bump_rig = false;
   CaptureOptions capture = CaptureOptions::ForSimulatedGround();
   bool single_row = false;
   bool json = false;
@@ -83,6 +85,10 @@ std::string CalibrateAtAField(const sim::SimStation& station, const std::string&
   return out;
 }
 
+// A tripod bumped between its calibration and the survey (issue 21's disturbed rig).
+constexpr double kBumpTiltZeroDeg = 0.3;
+constexpr double kBumpLevellingDeg = 0.1;
+
 void RunSurvey(const SurveyArgs& args) {
   if (!args.sim)
     throw CommandError(
@@ -97,35 +103,43 @@ void RunSurvey(const SurveyArgs& args) {
   const bool tty = ::isatty(STDERR_FILENO) && !args.json;
   const std::string truth_dir = args.truth.empty() ? args.out + "-truth" : args.truth;
 
-  auto station = sim::BuildSimStation(args.station);
-  if (!station) throw CommandError(station.error());
-  if (Status s = sim::WriteTruthDirectory((*station)->scene, (*station)->rig, truth_dir); !s)
-    throw CommandError(s.error());
-  sim::SimServeOptions serve;
-  auto server = sim::SimServer::Start(*station, serve);
-  if (!server) throw CommandError(server.error());
-
   if (args.nominal_calibration && args.true_calibration)
     throw CommandError("survey: --nominal-calibration or --true-calibration, not both");
+  auto built = sim::BuildSimStation(args.station);
+  if (!built) throw CommandError(built.error());
+  std::shared_ptr<const sim::SimStation> station = *built;
   ProcessOptions process;
   std::string calibration_used;
   RigConfig rig;
-  if (args.nominal_calibration) {
-    rig.calibration = (*station)->rig.nominal;
-    calibration_used = "the rig's design values";
-  } else if (args.true_calibration) {
-    rig.calibration = (*station)->rig.truth;
-    process.calibration_file = truth_dir + "/calibration.yaml";
-    calibration_used = "the simulator's true calibration";
-  } else {
-    process.calibration_file = CalibrateAtAField(**station, args.out + "-calibration", truth_dir);
+  if (!args.nominal_calibration && !args.true_calibration) {
+    process.calibration_file = CalibrateAtAField(*station, args.out + "-calibration", truth_dir);
     const Result<Calibration> calibrated = LoadCalibrationYaml(process.calibration_file);
     if (!calibrated) throw CommandError(calibrated.error());
     rig.calibration = *calibrated;
-    process.self_calibrate_rig = true;
-    calibration_used = "estimated: a control-field session (" + process.calibration_file +
-                       "), the stage self-calibrated on the station's seams";
+    process.self_calibrate_rig = !args.no_self_calibration;
+    calibration_used = "estimated: a control-field session (" + process.calibration_file + ")" +
+                       (args.no_self_calibration ? ", the stage as calibrated"
+                                                 : ", the stage self-calibrated on the seams");
   }
+  if (args.bump_rig) {  // after the calibration session, before the survey
+    auto bumped = std::make_shared<sim::SimStation>(*station);
+    sim::BumpTripod(&bumped->rig, kBumpTiltZeroDeg, kBumpLevellingDeg);
+    station = bumped;
+  }
+  if (args.nominal_calibration) {
+    rig.calibration = station->rig.nominal;
+    calibration_used = "the rig's design values";
+  } else if (args.true_calibration) {
+    rig.calibration = station->rig.truth;
+    process.calibration_file = truth_dir + "/calibration.yaml";
+    calibration_used = "the simulator's true calibration";
+  }
+  if (Status s = sim::WriteTruthDirectory(station->scene, station->rig, truth_dir); !s)
+    throw CommandError(s.error());
+  sim::SimServeOptions serve;
+  auto server = sim::SimServer::Start(station, serve);
+  if (!server) throw CommandError(server.error());
+
   rig.name = "simulated-rig";
   rig.file = "(survey --sim)";
   rig.left_camera.id = serve.left_serial;
@@ -168,7 +182,7 @@ void RunSurvey(const SurveyArgs& args) {
   std::printf(
       "survey of scene '%s' done in %.0f s (capture %.0f s; products %.1f s after the last "
       "pair)\n",
-      (*station)->scene.name.c_str(), seconds, captured.seconds, after_last_pair_s);
+      station->scene.name.c_str(), seconds, captured.seconds, after_last_pair_s);
   std::printf(
       "products: %s/products (dem.tif, dem_std.tif, dem.png, points.ply, panorama.png, "
       "terrain_correction.json, report.json); truth: %s\n",
@@ -193,6 +207,11 @@ void AddSurveyCommand(CLI::App& app) {
   s->add_flag("--true-calibration", args->true_calibration,
               "capture and process with the simulator's true calibration (no calibration "
               "session, no self-calibration): isolates matching from calibration");
+  s->add_flag("--no-self-calibrate-rig", args->no_self_calibration,
+              "process with the stage as calibrated (the seams are still checked)");
+  s->add_flag("--bump-rig", args->bump_rig,
+              "the tripod bumped after the calibration session: tilt zero +0.3 deg, levelling "
+              "+0.1 deg");
   s->add_flag("--single-row", args->single_row,
               "no poses higher up where the terrain goes on above a view");
   s->add_flag("--json", args->json, "print the summary as JSON");

@@ -54,11 +54,15 @@ double Raster::Interpolate(double x_m, double y_m) const {
   return (1 - ty) * ((1 - tx) * v00 + tx * v01) + ty * ((1 - tx) * v10 + tx * v11);
 }
 
-Raster Raster::ResampledOnto(const Raster& grid) const {
+Raster Raster::ResampledOnto(const Raster& grid, double turn_deg) const {
   Raster out = grid;
+  // A grid point at azimuth a is this raster's point at azimuth a - turn: turned clockwise by
+  // -turn.
+  const double t = -turn_deg * M_PI / 180.0, cos_t = std::cos(t), sin_t = std::sin(t);
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c) {
-      const double v = Interpolate(grid.CellCentreX(c), grid.CellCentreY(r));
+      const double x = grid.CellCentreX(c), y = grid.CellCentreY(r);
+      const double v = Interpolate(x * cos_t + y * sin_t, -x * sin_t + y * cos_t);
       out.at(r, c) = std::isfinite(v) ? static_cast<float>(v) : kNoData;
     }
   return out;

@@ -33,7 +33,9 @@ struct Raster {
   // Bilinear interpolation between cell centres; NaN outside or next to nodata.
   double Interpolate(double x_m, double y_m) const;
   // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).
-  Raster ResampledOnto(const Raster& grid) const;
+  // turn_deg: the grid's azimuths (clockwise from +Y, about the origin) stand this far from
+  // this raster's, as a station frame's do from another's when their pan zeros differ.
+  Raster ResampledOnto(const Raster& grid, double turn_deg = 0.0) const;
 };
 
 // Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a

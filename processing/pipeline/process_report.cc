@@ -46,7 +46,10 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   nlohmann::json report;
   report["station"] = in.manifest.station_id;
   report["software"] = {{"name", "topostation"}, {"version", SoftwareVersion()}};
-  report["calibration"] = {{"source", in.calibration_source}, {"sha256", in.calibration_sha256}};
+  // The pan zero is the station frame's azimuth datum, which no panorama shows.
+  report["calibration"] = {{"source", in.calibration_source},
+                           {"sha256", in.calibration_sha256},
+                           {"pan_zero_deg", in.calibration.stage.pan_zero_deg}};
   if (!w.rig_check.is_null()) report["rig"] = w.rig_check;
   report["frame"] = in.georeference ? "projected CRS (GCPs)" : "station frame L";
   report["station_mark"] = {w.mark_dem.x(), w.mark_dem.y(), w.mark_dem.z()};

@@ -1,0 +1,56 @@
+// Resampling a raster onto another grid, and onto a station frame whose azimuth stands
+// elsewhere (a different pan zero): against planes whose values are known everywhere.
+#include "processing/io/raster.h"
+
+#include <gtest/gtest.h>
+
+namespace ts {
+namespace {
+
+// A 41 x 41 raster of 1 m cells centred on the origin with z = f(x, y).
+template <class F>
+Raster Plane(F f) {
+  Raster r;
+  r.cols = r.rows = 41;
+  r.cell_m = 1.0;
+  r.min_x_m = -20.5;
+  r.max_y_m = 20.5;
+  r.values.resize(41 * 41);
+  for (int row = 0; row < r.rows; ++row)
+    for (int col = 0; col < r.cols; ++col)
+      r.at(row, col) = static_cast<float>(f(r.CellCentreX(col), r.CellCentreY(row)));
+  return r;
+}
+
+TEST(Raster, ResampledOntoAGridTurnedByAPanZeroSeesTheGroundTurned) {
+  // Ground rising to the north (+Y). A frame whose azimuths stand 90 deg clockwise further
+  // sees that rise at its azimuth 90: along +X.
+  const Raster north = Plane([](double, double y) { return 0.1 * y; });
+  Raster grid = Plane([](double, double) { return 0.0; });
+  grid.cols = grid.rows = 21;  // inside the source, where every cell is interpolated
+  grid.min_x_m = -10.5;
+  grid.max_y_m = 10.5;
+  grid.values.assign(21 * 21, 0.0f);
+  const Raster same = north.ResampledOnto(grid);
+  const Raster turned = north.ResampledOnto(grid, 90.0);
+  const Raster slightly = north.ResampledOnto(grid, 0.94);
+  const double s = std::sin(0.94 * M_PI / 180.0), c = std::cos(0.94 * M_PI / 180.0);
+  for (int row = 0; row < grid.rows; ++row)
+    for (int col = 0; col < grid.cols; ++col) {
+      const double x = grid.CellCentreX(col), y = grid.CellCentreY(row);
+      EXPECT_NEAR(same.at(row, col), 0.1 * y, 1e-5);
+      EXPECT_NEAR(turned.at(row, col), 0.1 * x, 1e-5);
+      // Turned by a: the source point is the grid point turned back by a (clockwise by -a).
+      EXPECT_NEAR(slightly.at(row, col), 0.1 * (x * s + y * c), 1e-5);
+    }
+}
+
+TEST(Raster, ResampledOutsideTheSourceIsNoData) {
+  const Raster small = Plane([](double x, double) { return x; });
+  Raster grid = small;
+  grid.min_x_m += 100.0;
+  EXPECT_TRUE(Raster::IsNoData(small.ResampledOnto(grid).at(5, 5)));
+}
+
+}  // namespace
+}  // namespace ts
