@@ -5,6 +5,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
 #include <set>
 
 #include <fmt/format.h>
@@ -23,31 +26,84 @@ constexpr double kRejectionK = 4.0;
 
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
+using KinematicsJet = ceres::Jet<double, kStageParameterCount + 2>;
+
+// One camera at one stage pose: its place in L as jets of the stage and the pose's encoder
+// corrections. The same for every tie point the camera saw there, and the most costly part of
+// a residual: computed once per set of parameter values (residuals are evaluated on several
+// threads, hence the lock).
+class CameraPlacement {
+ public:
+  CameraPlacement(const Eigen::Isometry3d& s_from_camera, const RigPose& pose)
+      : s_from_camera_(s_from_camera), pose_(pose) {
+    key_.fill(std::numeric_limits<double>::quiet_NaN());
+  }
+  void Get(const double* stage, const double* encoder, Eigen::Matrix<KinematicsJet, 3, 3>* r_lc,
+           Eigen::Matrix<KinematicsJet, 3, 1>* t_lc) {
+    std::array<double, kStageParameterCount + 2> key;
+    std::copy(stage, stage + kStageParameterCount, key.begin());
+    key[kStageParameterCount] = encoder[0];
+    key[kStageParameterCount + 1] = encoder[1];
+    std::lock_guard lock(mutex_);
+    if (key != key_) {
+      std::array<KinematicsJet, kStageParameterCount> v;
+      for (int i = 0; i < kStageParameterCount; ++i) v[i] = KinematicsJet(stage[i], i);
+      const KinematicsJet pan(pose_.pan_deg + encoder[0], kStageParameterCount);
+      const KinematicsJet tilt(pose_.tilt_deg + encoder[1], kStageParameterCount + 1);
+      Eigen::Matrix<KinematicsJet, 3, 3> r_ls;
+      Eigen::Matrix<KinematicsJet, 3, 1> t_ls;
+      LFromSOf(v.data(), pan, tilt, &r_ls, &t_ls);
+      r_lc_ = r_ls * s_from_camera_.linear().cast<KinematicsJet>();
+      t_lc_ = r_ls * s_from_camera_.translation().cast<KinematicsJet>() + t_ls;
+      key_ = key;
+    }
+    *r_lc = r_lc_;
+    *t_lc = t_lc_;
+  }
+
+ private:
+  const Eigen::Isometry3d s_from_camera_;
+  const RigPose pose_;
+  std::mutex mutex_;
+  std::array<double, kStageParameterCount + 2> key_;
+  Eigen::Matrix<KinematicsJet, 3, 3> r_lc_;
+  Eigen::Matrix<KinematicsJet, 3, 1> t_lc_;
+};
+
+// Each camera at each pose of the input: [2 * pose + side].
+std::vector<std::shared_ptr<CameraPlacement>> Placements(const RigAdjustmentInput& in) {
+  std::vector<std::shared_ptr<CameraPlacement>> placements;
+  for (const RigPose& pose : in.poses)
+    for (Side side : {Side::kLeft, Side::kRight})
+      placements.push_back(std::make_shared<CameraPlacement>(
+          side == Side::kLeft ? in.calibration.rig.SFromLeftCamera()
+                              : in.calibration.rig.SFromRightCamera(),
+          pose));
+  return placements;
+}
+
+std::shared_ptr<CameraPlacement> PlacementOf(
+    const std::vector<std::shared_ptr<CameraPlacement>>& placements, const RigTieObservation& t) {
+  return placements[2 * t.pose + (t.side == Side::kLeft ? 0 : 1)];
+}
+
 // One image's measurement of a tie point. The stage's kinematics are differentiated by Ceres'
 // jets, the projection (which inverts the distortion by Newton's method) analytically.
 class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
  public:
-  TieCost(const Calibration& calibration, const RigTieObservation& t, const RigPose& pose,
-          double sigma_px)
-      : s_from_camera_(t.side == Side::kLeft ? calibration.rig.SFromLeftCamera()
-                                             : calibration.rig.SFromRightCamera()),
+  TieCost(const Calibration& calibration, const RigTieObservation& t,
+          std::shared_ptr<CameraPlacement> placement, double sigma_px)
+      : placement_(std::move(placement)),
         model_(t.side == Side::kLeft ? calibration.rig.left : calibration.rig.right),
-        pose_(pose),
         pixel_(t.pixel),
         sigma_px_(sigma_px) {}
 
   // Parameters: the stage vector, the encoder corrections (deg), the point in L.
   bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
-    using Jet = ceres::Jet<double, kStageParameterCount + 2>;
-    std::array<Jet, kStageParameterCount> v;
-    for (int i = 0; i < kStageParameterCount; ++i) v[i] = Jet(x[0][i], i);
-    const Jet pan(pose_.pan_deg + x[1][0], kStageParameterCount);
-    const Jet tilt(pose_.tilt_deg + x[1][1], kStageParameterCount + 1);
-    Eigen::Matrix<Jet, 3, 3> r_ls;
-    Eigen::Matrix<Jet, 3, 1> t_ls;
-    LFromSOf(v.data(), pan, tilt, &r_ls, &t_ls);
-    const Eigen::Matrix<Jet, 3, 3> r_lc = r_ls * s_from_camera_.linear().cast<Jet>();
-    const Eigen::Matrix<Jet, 3, 1> t_lc = r_ls * s_from_camera_.translation().cast<Jet>() + t_ls;
+    using Jet = KinematicsJet;
+    Eigen::Matrix<Jet, 3, 3> r_lc;
+    Eigen::Matrix<Jet, 3, 1> t_lc;
+    placement_->Get(x[0], x[1], &r_lc, &t_lc);
     const Eigen::Matrix<Jet, 3, 1> point{Jet(x[2][0]), Jet(x[2][1]), Jet(x[2][2])};
     const Eigen::Matrix<Jet, 3, 1> in_camera = r_lc.transpose() * (point - t_lc);
     const Eigen::Vector3d p(in_camera[0].a, in_camera[1].a, in_camera[2].a);
@@ -82,18 +138,9 @@ class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
     return true;
   }
 
-  // The residual in pixels, or false where the point does not project.
-  static bool Residual(const Calibration& calibration, const RigTieObservation& t,
-                       const RigPose& pose, const double* stage, const double* encoder,
-                       const double* point, double* residual) {
-    const double* x[] = {stage, encoder, point};
-    return TieCost(calibration, t, pose, 1.0).Evaluate(x, residual, nullptr);
-  }
-
  private:
-  Eigen::Isometry3d s_from_camera_;
+  std::shared_ptr<CameraPlacement> placement_;
   CameraModel model_;
-  RigPose pose_;
   Eigen::Vector2d pixel_;
   double sigma_px_;
 };
@@ -135,10 +182,11 @@ struct Unknowns {
 void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, bool robust,
                   double pixel_sigma_px, const StageVector& prior, const std::set<int>& held,
                   const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
+  const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
-    auto* cost = new TieCost(in.calibration, t, in.poses[t.pose], pixel_sigma_px);
+    auto* cost = new TieCost(in.calibration, t, PlacementOf(placements, t), pixel_sigma_px);
     problem->AddResidualBlock(cost, robust ? new ceres::HuberLoss(3.0) : nullptr, u->stage.data(),
                               u->encoder[t.pose].data(), u->points[t.point].data());
   }
@@ -174,10 +222,12 @@ void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, b
 Status Solve(bool robust, ceres::Problem* problem) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_SCHUR;
-  options.max_num_iterations = robust ? 20 : 100;
+  options.max_num_iterations = robust ? 10 : 100;
   options.function_tolerance = 1e-8;
   options.parameter_tolerance = 1e-9;
-  options.num_threads = 2;
+  // One thread: a threaded evaluation sums in the order the threads finish, and the incremental
+  // station must give the products of `process` to the bit.
+  options.num_threads = 1;
   ceres::Solver::Summary summary;
   ceres::Solve(options, problem, &summary);
   if (!summary.IsSolutionUsable()) return Error{"the adjustment failed: " + summary.message};
@@ -308,11 +358,12 @@ Status CheckInput(const RigAdjustmentInput& in) {
 
 // Each image observation's residual (pixels), squared.
 std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknowns& u) {
+  const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
   std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
     double residual[2] = {1e30, 1e30};
-    TieCost::Residual(in.calibration, t, in.poses[t.pose], u.stage.data(),
-                      u.encoder[t.pose].data(), u.points[t.point].data(), residual);
+    const double* x[] = {u.stage.data(), u.encoder[t.pose].data(), u.points[t.point].data()};
+    TieCost(in.calibration, t, PlacementOf(placements, t), 1.0).Evaluate(x, residual, nullptr);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
   return squares;

@@ -1,5 +1,6 @@
 #include "processing/calibration/rig_tie_points.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -89,6 +90,43 @@ std::optional<Eigen::Vector2d> Find(const View& from, const View& to, const Cand
   return r.position_px;
 }
 
+// Pair k's points found in pose j's left image, added to `out` (points and observations indexed
+// within it). Predicting every point of a pair into every pose would cost more than the
+// matching: an even sample of candidates_per_tie times the tie points wanted is predicted.
+void TiePointsBetween(const Calibration& calibration, const CameraModel& left,
+                      const CameraModel& right, const StereoPairImages& pair,
+                      const MatchedPair& matched, const std::vector<View>& views, int k, int j,
+                      const RigTiePointOptions& o, RigAdjustmentInput* out) {
+  constexpr size_t kCandidatesPerTie = 10;
+  const size_t sample =
+      std::max<size_t>(1, matched.cloud.size() / (kCandidatesPerTie * o.max_per_neighbour));
+  std::vector<Candidate> candidates;
+  std::vector<Eigen::Matrix3d> covariances;
+  for (size_t i = 0; i < matched.cloud.size(); i += sample) {
+    const CloudPoint& p = matched.cloud[i];
+    if (auto c = Predict(left, views[k], views[j], p.position_m); c && left.InImage(c->predicted)) {
+      candidates.push_back(*c);
+      covariances.push_back(p.covariance_m2.cast<double>());
+    }
+  }
+  if (static_cast<int>(candidates.size()) < o.min_candidates) return;
+  const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
+  const Eigen::Isometry3d right_from_l =
+      calibration.LFromCamera(Side::kRight, pair.pan_deg, pair.tilt_deg).inverse();
+  for (size_t i = 0; i < candidates.size(); i += step) {
+    const Candidate& c = candidates[i];
+    const std::optional<Eigen::Vector2d> found = Find(views[k], views[j], c, o);
+    Eigen::Vector2d in_right;
+    if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
+    const int point = static_cast<int>(out->points.size());
+    out->points.push_back(c.point);
+    out->point_covariance_m2.push_back(covariances[i]);
+    out->observations.push_back({k, Side::kLeft, point, c.centre});
+    out->observations.push_back({k, Side::kRight, point, in_right, true});
+    out->observations.push_back({j, Side::kLeft, point, *found});
+  }
+}
+
 }  // namespace
 
 RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
@@ -107,35 +145,26 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
     views.push_back(std::move(v));
   }
   const CameraModel left(calibration.rig.left), right(calibration.rig.right);
-  for (size_t k = 0; k < pairs.size(); ++k)
-    for (size_t j = 0; j < pairs.size(); ++j) {
-      if (j == k) continue;
-      std::vector<Candidate> candidates;
-      std::vector<Eigen::Matrix3d> covariances;
-      for (const CloudPoint& p : matched[k].cloud)
-        if (auto c = Predict(left, views[k], views[j], p.position_m);
-            c && left.InImage(c->predicted)) {
-          candidates.push_back(*c);
-          covariances.push_back(p.covariance_m2.cast<double>());
-        }
-      if (static_cast<int>(candidates.size()) < o.min_candidates) continue;
-      const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
-      const Eigen::Isometry3d right_from_l =
-          calibration.LFromCamera(Side::kRight, pairs[k].pan_deg, pairs[k].tilt_deg).inverse();
-      for (size_t i = 0; i < candidates.size(); i += step) {
-        const Candidate& c = candidates[i];
-        const std::optional<Eigen::Vector2d> found = Find(views[k], views[j], c, o);
-        Eigen::Vector2d in_right;
-        if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
-        const int point = static_cast<int>(input.points.size());
-        const int from = static_cast<int>(k), to = static_cast<int>(j);
-        input.points.push_back(c.point);
-        input.point_covariance_m2.push_back(covariances[i]);
-        input.observations.push_back({from, Side::kLeft, point, c.centre});
-        input.observations.push_back({from, Side::kRight, point, in_right, true});
-        input.observations.push_back({to, Side::kLeft, point, *found});
-      }
+  // Each pair's tie points with every other pose, found in parallel (one pair per task) and
+  // gathered in pair order, so that the result does not depend on the scheduling.
+  std::vector<RigAdjustmentInput> found(pairs.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(pairs.size())), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k)
+      for (size_t j = 0; j < pairs.size(); ++j)
+        if (static_cast<int>(j) != k)
+          TiePointsBetween(calibration, left, right, pairs[k], matched[k], views, k,
+                           static_cast<int>(j), o, &found[k]);
+  });
+  for (const RigAdjustmentInput& f : found) {
+    const int offset = static_cast<int>(input.points.size());
+    input.points.insert(input.points.end(), f.points.begin(), f.points.end());
+    input.point_covariance_m2.insert(input.point_covariance_m2.end(), f.point_covariance_m2.begin(),
+                                     f.point_covariance_m2.end());
+    for (RigTieObservation t : f.observations) {
+      t.point += offset;
+      input.observations.push_back(t);
     }
+  }
   return input;
 }
 

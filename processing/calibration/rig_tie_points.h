@@ -17,8 +17,8 @@
 namespace ts {
 
 struct RigTiePointOptions {
-  int max_per_neighbour = 100;  // tie points sought between a pair and one neighbour
-  double search_px = 25.0;      // a stage off by 0.5 deg moves a prediction by 16 px
+  int max_per_neighbour = 50;  // tie points sought between a pair and one neighbour
+  double search_px = 25.0;     // a stage off by 0.5 deg moves a prediction by 16 px
   int half_window_px = 10;
   double min_correlation = 0.8;
   int min_candidates = 30;  // a neighbour's view overlaps when it holds this many of the points
