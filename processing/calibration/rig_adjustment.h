@@ -84,11 +84,11 @@ struct RigAdjustment {
   // Of an image coordinate, a posteriori (a variance component: the sigmas above are weighed
   // with it).
   double image_sigma_px = 0.0;
-  double rms_px = 0.0;                  // over the image observations kept
-  int observations = 0;                 // image observations kept
-  int rejected = 0;                     // off by more than 4 sigma: mismatched tie points
+  double rms_px = 0.0;                     // over the image observations kept
+  int observations = 0;                    // image observations kept
+  int rejected = 0;                        // off by more than 4 sigma: mismatched tie points
   std::vector<char> rejected_observation;  // per input observation
-  std::vector<Eigen::Vector3d> points;  // adjusted, in L
+  std::vector<Eigen::Vector3d> points;     // adjusted, in L
 };
 
 // Needs observations of at least one point from two poses.

@@ -16,8 +16,8 @@
 namespace ts {
 
 struct RigSeamTie {
-  int pose = 0;                                          // the neighbour
-  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();       // where the neighbour sees it
+  int pose = 0;                                               // the neighbour
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();            // where the neighbour sees it
   Eigen::Vector2d disagreement_px = Eigen::Vector2d::Zero();  // predicted minus seen
   double ratio = 0.0;  // the disagreement's length over its predicted RMS length
 };

@@ -26,7 +26,7 @@ struct ProcessOptions {
   std::string gcp_file;           // empty: the DEM stays in the station frame L
   double dem_half_size_m = 30.0;  // the DEM covers the square of 2 x this around the station
   double dem_cell_m = 1.0;
-  double cloud_margin_m = 10.0;  // points this far beyond the square still inform the DEM
+  double cloud_margin_m = 10.0;     // points this far beyond the square still inform the DEM
   bool self_calibrate_rig = false;  // go on with the stage adjusted on the station's own seams
   RigTiePointOptions rig_ties;
   RigAdjustmentOptions rig_adjustment;

@@ -32,9 +32,9 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
 constexpr int kStepCount = 4 + static_cast<int>(std::size(kStationSteps));
 
 std::string SeamsLine(const RigSeams& seams) {
-  return fmt::format("{:.0f} % of {} tie points within 2 of their predicted sigma (median {:.2f} px, {:.1f} mm)",
-                     100 * seams.within_2_sigma, seams.ties.size(), seams.median_px,
-                     seams.median_mm);
+  return fmt::format(
+      "{:.0f} % of {} tie points within 2 of their predicted sigma (median {:.2f} px, {:.1f} mm)",
+      100 * seams.within_2_sigma, seams.ties.size(), seams.median_px, seams.median_mm);
 }
 
 }  // namespace
@@ -104,6 +104,8 @@ void StationProcessor::Work() {
     if (matched) {
       worker_calibration_sha256_ = inputs->calibration_sha256;
       matched_[images.index] = std::move(*matched);
+      left_images_[images.index] = {images.index, images.pan_deg, images.tilt_deg, images.left,
+                                    cv::Mat()};
     }
     ProcessProgress progress{"matching",
                              0,
@@ -197,11 +199,19 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
     s->warnings.push_back("rig not checked: one pair has no seams");
     return true;
   }
+  // The left images the worker kept (the same read-back), the others from disk.
   std::vector<StereoPairImages> images(records.size());
   std::vector<std::string> errors(records.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(records.size())), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
-      Result<StereoPairImages> loaded = LoadPairImages(*in, records[i]);
+      const PairRecord& p = records[i];
+      const auto kept = left_images_.find(p.index);
+      if (kept != left_images_.end() && kept->second.pan_deg == p.readback.pan_deg &&
+          kept->second.tilt_deg == p.readback.tilt_deg) {
+        images[i] = kept->second;
+        continue;
+      }
+      Result<StereoPairImages> loaded = LoadPairImages(*in, p);
       if (loaded)
         images[i] = std::move(*loaded);
       else

@@ -71,8 +71,9 @@ class StationProcessor {
   std::condition_variable changed_;
   std::deque<Pending> queue_;
   bool busy_ = false, stopping_ = false;
-  std::map<int, MatchedPair> matched_;         // by pair index
-  std::unique_ptr<PanoramaBuilder> panorama_;  // of the matched pairs
+  std::map<int, MatchedPair> matched_;           // by pair index
+  std::map<int, StereoPairImages> left_images_;  // as handed in (no right image), for the rig
+  std::unique_ptr<PanoramaBuilder> panorama_;    // of the matched pairs
   std::string worker_calibration_sha256_;
   double worker_matching_s_ = 0.0;
   std::thread worker_;

@@ -184,7 +184,9 @@ TEST(StationProcessor, ABumpedRigIsSeenInTheSeamsAndSelfCalibrated) {
   EXPECT_FALSE(Warns(self.report, "seams do not close"));
   // The bump is taken back. Tilt zero and the rig's omega turn the views about one axis: the
   // panorama sees their difference, and one of them is held.
-  const auto value = [&](const char* name) { return rig["parameters"][name]["value"].get<double>(); };
+  const auto value = [&](const char* name) {
+    return rig["parameters"][name]["value"].get<double>();
+  };
   EXPECT_NEAR(value("rig_omega_deg") - value("tilt_zero_deg"),
               truth->stage.rig_rotation_opk_deg.x() - truth->stage.tilt_zero_deg, 0.01);
   std::printf("DEM RMSE: true calibration %.3f m, bumped %.3f m, self-calibrated %.3f m\n",

@@ -29,8 +29,7 @@ void SurveyFlat(const std::string& dir, const std::string& as_user,
       RunCommand(as_user + exe + " survey --sim --scene flat --out " + dir + "/st --json 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
-  EXPECT_EQ(j["calibration"].get<std::string>().rfind("estimated: a control-field session", 0),
-            0u);
+  EXPECT_EQ(j["calibration"].get<std::string>().rfind("estimated: a control-field session", 0), 0u);
   EXPECT_TRUE(std::filesystem::exists(dir + "/st-calibration/calibration.yaml"));
   EXPECT_LT(j["evaluation"]["dem_rmse_m"].get<double>(), 0.05);
   EXPECT_GE(j["evaluation"]["coverage_30m"].get<double>(), 0.95);
@@ -70,9 +69,9 @@ TEST(SurveySim, FlatSceneEndToEndAsANormalUser) {
   // and self-calibrates the stage on the same seams: the same DEM to the bit.
   const Result<Raster> surveyed = ReadGeoTiff(dir / "st/products/dem.tif");
   ASSERT_TRUE(surveyed) << surveyed.error();
-  const auto r = RunCommand(Exe() + " process " + (dir / "st") + " --calibration " +
-                            (dir / "st-calibration/calibration.yaml") +
-                            " --self-calibrate-rig --json 2>&1");
+  const auto r =
+      RunCommand(Exe() + " process " + (dir / "st") + " --calibration " +
+                 (dir / "st-calibration/calibration.yaml") + " --self-calibrate-rig --json 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const Result<Raster> processed = ReadGeoTiff(dir / "st/products/dem.tif");
   ASSERT_TRUE(processed) << processed.error();
@@ -128,8 +127,8 @@ TEST(SurveySim, TwoEpochsRecoverASubsidenceBowl) {
 TEST(SurveySim, ABumpedTripodIsSelfCalibratedAndWithoutItTheSeamsDoNotClose) {
   testing::TempDir dir;
   const std::string st = dir / "st";
-  const auto r = RunCommand(Exe() + " survey --sim --scene flat --bump-rig --out " + st +
-                            " --json 2>&1");
+  const auto r =
+      RunCommand(Exe() + " survey --sim --scene flat --bump-rig --out " + st + " --json 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   const double self_calibrated = j["evaluation"]["dem_rmse_m"].get<double>();
