@@ -2,14 +2,19 @@
 // kinematics refined on a captured panorama's own tie points, the cameras and the stereo pair
 // held (processing/pipeline/rig_check.h, the same check `process` makes).
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/matching/rectification.h"
 #include "processing/pipeline/rig_check.h"
 #include "processing/pipeline/station_inputs.h"
+#include "processing/products/seams_image.h"
+#include "station/calibration_report.h"
 #include "station/commands.h"
+#include "station/plot_drawing.h"
 
 namespace ts {
 namespace {
@@ -60,6 +65,15 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
   nlohmann::json j = RigCheckJson(check, true);
   j["station"] = args.stations[0];
   j["out"] = args.out;
+  // The report beside the file, as calibrate camera/stereo leave theirs.
+  const std::string report = CalibrationReportDir(args.out);
+  std::error_code ec;
+  std::filesystem::create_directories(report, ec);
+  if (ec) throw CommandError(report + ": cannot create (" + ec.message() + ")");
+  if (Status s = WriteFileAtomically(report + "/report.json", j.dump(2) + "\n"); !s)
+    throw CommandError(s.error());
+  if (Status s = WritePng(RenderSeamsImage(check.before, check.after), report + "/seams.png"); !s)
+    throw CommandError(s.error());
   if (args.json) {
     std::printf("%s\n", j.dump().c_str());
     return;
@@ -74,7 +88,8 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
       std::printf("  %-22s %+.5f +- %.5f (change %+.5f)\n", kStageParameterNames[i], a[i],
                   r.sigma[i], a[i] - b[i]);
   for (const std::string& w : r.undetermined) std::printf("  %s\n", w.c_str());
-  std::printf("written %s\n", args.out.c_str());
+  std::printf("written %s, report and seams.png in %s\n", args.out.c_str(),
+              CalibrationReportDir(args.out).c_str());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "processing/calibration/rig_seams.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "processing/geometry/camera_model.h"
 
@@ -64,6 +65,9 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& st
     within += tie.ratio <= 2.0;
     px.push_back(length);
     mm.push_back(1e3 * length * in_camera.norm() / c);
+    tie.azimuth_elevation_deg = {
+        std::atan2(point.x(), point.y()) * 180.0 / M_PI,
+        std::atan2(point.z(), std::hypot(point.x(), point.y())) * 180.0 / M_PI};
     seams.ties.push_back(tie);
   }
   seams.median_px = Median(px);

@@ -20,6 +20,8 @@ struct RigSeamTie {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();            // where the neighbour sees it
   Eigen::Vector2d disagreement_px = Eigen::Vector2d::Zero();  // predicted minus seen
   double ratio = 0.0;  // the disagreement's length over its predicted RMS length
+  // Where it lies, seen from the stage's centre: azimuth (clockwise from L's +Y) and elevation.
+  Eigen::Vector2d azimuth_elevation_deg = Eigen::Vector2d::Zero();
 };
 
 struct RigSeams {

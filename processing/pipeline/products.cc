@@ -54,6 +54,10 @@ bool WriteProducts(const ProcessOptions& o, const StationWork& w, StepSummary* s
     if (!dem_png) return Error{dem_png.error()};
     auto panorama = WritePngAtomically(w.panorama, products + "/panorama.png");
     if (!panorama) return Error{panorama.error()};
+    if (!w.seams_image.empty()) {
+      auto seams = WritePngAtomically(w.seams_image, products + "/seams.png");
+      if (!seams) return Error{seams.error()};
+    }
     return {};
   });
   Status written = WriteGeoTiff(w.kriged.dem, products + "/dem.tif");

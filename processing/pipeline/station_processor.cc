@@ -11,6 +11,7 @@
 #include "processing/pipeline/process_report.h"
 #include "processing/pipeline/products.h"
 #include "processing/pipeline/rig_check.h"
+#include "processing/products/seams_image.h"
 
 namespace ts {
 namespace {
@@ -234,6 +235,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   }
   const bool used = options_.self_calibrate_rig;
   w->rig_check = RigCheckJson(*check, used);
+  w->seams_image = RenderSeamsImage(check->before, check->after);
   s->counts = {{"rig_tie_points", check->tie_points},
                {"seams_within_2_sigma", check->before.within_2_sigma}};
   if (!used) {

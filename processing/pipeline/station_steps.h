@@ -46,6 +46,7 @@ struct StationWork {
   double coverage_30m = 0.0, coverage_square = 0.0;
   TerrainCorrection terrain_correction;
   nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams
+  cv::Mat seams_image;       // products/seams.png, when the rig was checked
 };
 
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s);

@@ -163,6 +163,7 @@ TEST(StationProcessor, ABumpedRigIsSeenInTheSeamsAndSelfCalibrated) {
     options.self_calibrate_rig = self_calibrate;
     Result<ProcessResult> r = ProcessStation(copy, options);
     EXPECT_TRUE(r) << r.error();
+    EXPECT_TRUE(std::filesystem::exists(copy + "/products/seams.png"));
     return r ? *std::move(r) : ProcessResult{};
   };
   const auto rmse = [&](const ProcessResult& r) {
