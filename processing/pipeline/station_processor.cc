@@ -25,6 +25,7 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"underside_patches", RemoveUndersidePatches},
     {"kriging", KrigeStationDem},
     {"horizon_limit", LimitDemToHorizon},
+    {"levelling_sigma", AddLevellingSigma},
     {"terrain_correction", CorrectTerrain},
     {"products", [](const ProcessOptions& o, StationWork* w,
                     StepSummary* s) { return WriteProducts(o, *w, s); }},
@@ -250,6 +251,9 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
                           SeamsLine(check->after));
   Calibration refined = start;
   refined.stage = check->adjustment.stage;
+  // Levelling about x and y alike in every direction from the station.
+  const StageVector& sigma = check->adjustment.sigma;
+  w->levelling_sigma_deg = std::sqrt(0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]));
   for (auto& [index, pair] : matched_) MovePairPoints(in->calibration, refined, &pair);
   w->cloud.clear();
   for (const PairRecord& p : records) {

@@ -147,6 +147,22 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) 
   return true;
 }
 
+bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
+  const double sigma_rad = w->levelling_sigma_deg * M_PI / 180.0;
+  s->counts = {{"levelling_sigma_deg", w->levelling_sigma_deg}};
+  if (sigma_rad <= 0.0) return true;
+  Raster& std_dev = w->kriged.std;
+  for (int row = 0; row < std_dev.rows; ++row)
+    for (int col = 0; col < std_dev.cols; ++col) {
+      float& v = std_dev.at(row, col);
+      if (Raster::IsNoData(v)) continue;
+      const double r = std::hypot(std_dev.CellCentreX(col) - w->station_xy.x(),
+                                  std_dev.CellCentreY(row) - w->station_xy.y());
+      v = static_cast<float>(std::hypot(v, sigma_rad * r));
+    }
+  return true;
+}
+
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   w->terrain_correction =
       ComputeTerrainCorrection(w->kriged.dem, &w->kriged.std, w->mark_dem, o.terrain_correction);

@@ -47,6 +47,9 @@ struct StationWork {
   TerrainCorrection terrain_correction;
   nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams
   cv::Mat seams_image;       // products/seams.png, when the rig was checked
+  // The levelling's sigma when it came from the station's inclinometer through the rig's
+  // self-calibration (deg; 0: the calibration's levelling taken as exact).
+  double levelling_sigma_deg = 0.0;
 };
 
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s);
@@ -55,6 +58,9 @@ bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s)
 bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s);
+// The levelling's sigma tilts the whole DEM about the station: sigma r at distance r enters
+// each cell's std (the seams cannot see the levelling; the inclinometer can, to its sigma).
+bool AddLevellingSigma(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s);
 
 }  // namespace ts
