@@ -33,6 +33,12 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
 // With load, matching, rig and report.
 constexpr int kStepCount = 4 + static_cast<int>(std::size(kStationSteps));
 
+std::vector<PairRecord> InPairOrder(std::vector<PairRecord> records) {
+  std::sort(records.begin(), records.end(),
+            [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
+  return records;
+}
+
 std::string SeamsLine(const RigSeams& seams) {
   return fmt::format(
       "{:.0f} % of {} tie points within 2 of their predicted sigma (median {:.2f} px, {:.1f} mm)",
@@ -136,9 +142,7 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
       panorama_ = std::make_unique<PanoramaBuilder>(in.calibration, options_.panorama);
     }
   }
-  std::vector<PairRecord> records = in.manifest.pairs;
-  std::sort(records.begin(), records.end(),
-            [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
+  const std::vector<PairRecord> records = InPairOrder(in.manifest.pairs);
   std::vector<const PairRecord*> missing;  // not handed in, or at another read-back
   for (const PairRecord& p : records) {
     const auto m = matched_.find(p.index);
@@ -193,15 +197,8 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
   return true;
 }
 
-bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s) {
-  std::vector<PairRecord> records = in->manifest.pairs;
-  std::sort(records.begin(), records.end(),
-            [](const PairRecord& a, const PairRecord& b) { return a.index < b.index; });
-  if (records.size() < 2) {
-    s->warnings.push_back("rig not checked: one pair has no seams");
-    return true;
-  }
-  // The left images the worker kept (the same read-back), the others from disk.
+Result<std::vector<StereoPairImages>> StationProcessor::LeftImages(
+    const StationInputs& in, const std::vector<PairRecord>& records) const {
   std::vector<StereoPairImages> images(records.size());
   std::vector<std::string> errors(records.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(records.size())), [&](const cv::Range& range) {
@@ -213,15 +210,47 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
         images[i] = kept->second;
         continue;
       }
-      Result<StereoPairImages> loaded = LoadPairImages(*in, p);
-      if (loaded)
+      Result<StereoPairImages> loaded = LoadPairImages(in, p);
+      if (loaded) {
         images[i] = std::move(*loaded);
-      else
+        images[i].right = cv::Mat();
+      } else {
         errors[i] = loaded.error();
+      }
     }
   });
   for (const std::string& e : errors)
-    if (!e.empty()) return s->message = e, false;
+    if (!e.empty()) return Error{e};
+  return images;
+}
+
+void StationProcessor::MoveToStage(const Calibration& refined,
+                                   const std::vector<StereoPairImages>& left_images,
+                                   StationInputs* in, StationWork* w) {
+  for (auto& [index, pair] : matched_) MovePairPoints(in->calibration, refined, &pair);
+  w->cloud.clear();
+  for (const StereoPairImages& p : left_images) {
+    const PointCloud& cloud = matched_.at(p.index).cloud;
+    w->cloud.insert(w->cloud.end(), cloud.begin(), cloud.end());
+  }
+  PanoramaBuilder panorama(refined, options_.panorama);
+  panorama.Add(left_images);
+  w->panorama = panorama.Image();
+  in->calibration = refined;
+  in->calibration_source += " (stage self-calibrated)";
+  in->calibration_sha256 = Sha256Hex(CalibrationToYaml(refined));
+  std::lock_guard lock(mutex_);
+  worker_calibration_sha256_ = in->calibration_sha256;
+}
+
+bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s) {
+  const std::vector<PairRecord> records = InPairOrder(in->manifest.pairs);
+  if (records.size() < 2) {
+    s->warnings.push_back("rig not checked: one pair has no seams");
+    return true;
+  }
+  const Result<std::vector<StereoPairImages>> images = LeftImages(*in, records);
+  if (!images) return s->message = images.error(), false;
   const Calibration start = StationStart(in->calibration, in->manifest);
   std::vector<MatchedPair> matched;
   for (const PairRecord& p : records) {
@@ -229,7 +258,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
     MovePairPoints(in->calibration, start, &matched.back());
   }
   const Result<RigCheck> check =
-      CheckRig(start, images, matched, options_.rig_ties, options_.rig_adjustment);
+      CheckRig(start, *images, matched, options_.rig_ties, options_.rig_adjustment);
   if (!check) {
     s->warnings.push_back("rig not checked: " + check.error());
     return true;
@@ -249,26 +278,12 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   if (check->after.within_2_sigma < RigCheck::kClosedShare)
     s->warnings.push_back("the seams do not close after the rig's self-calibration: " +
                           SeamsLine(check->after));
-  Calibration refined = start;
-  refined.stage = check->adjustment.stage;
   // Levelling about x and y alike in every direction from the station.
   const StageVector& sigma = check->adjustment.sigma;
   w->levelling_sigma_deg = std::sqrt(0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]));
-  for (auto& [index, pair] : matched_) MovePairPoints(in->calibration, refined, &pair);
-  w->cloud.clear();
-  for (const PairRecord& p : records) {
-    const PointCloud& cloud = matched_.at(p.index).cloud;
-    w->cloud.insert(w->cloud.end(), cloud.begin(), cloud.end());
-  }
-  for (StereoPairImages& p : images) p.right = cv::Mat();
-  PanoramaBuilder panorama(refined, options_.panorama);
-  panorama.Add(images);
-  w->panorama = panorama.Image();
-  in->calibration = refined;
-  in->calibration_source += " (stage self-calibrated)";
-  in->calibration_sha256 = Sha256Hex(CalibrationToYaml(refined));
-  std::lock_guard lock(mutex_);
-  worker_calibration_sha256_ = in->calibration_sha256;
+  Calibration refined = start;
+  refined.stage = check->adjustment.stage;
+  MoveToStage(refined, *images, in, w);
   return true;
 }
 

@@ -61,6 +61,12 @@ class StationProcessor {
   // The stage checked on the matched pairs' seams (rig_check.h); with self_calibrate_rig the
   // pairs' points, the panorama and `in`'s calibration move to the adjusted stage.
   bool CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s);
+  // The pairs' left images: those handed in (at the same read-back), the others from disk.
+  Result<std::vector<StereoPairImages>> LeftImages(const StationInputs& in,
+                                                   const std::vector<PairRecord>& records) const;
+  // The matched pairs, the cloud, the panorama and `in`'s calibration on `refined`'s stage.
+  void MoveToStage(const Calibration& refined, const std::vector<StereoPairImages>& left_images,
+                   StationInputs* in, StationWork* w);
 
   const std::string dir_;
   const ProcessOptions options_;
