@@ -36,14 +36,18 @@ bool HasSecondLoopbackAddress() {
   return found;
 }
 
+std::string ThisProgram() {
+  char exe[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) throw CommandError("cannot find this program (/proc/self/exe) to run it again");
+  return std::string(exe, static_cast<size_t>(n));
+}
+
 void EnsurePrivateStationNetwork() {
   if (HasSecondLoopbackAddress()) return;
   if (const char* in = std::getenv("TS_IN_NETNS"); in && std::strcmp(in, "1") == 0)
     throw CommandError("private network namespace made, but 127.0.0.2 could not be added to lo");
-  char exe[4096];
-  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (n <= 0) throw CommandError("cannot find this program (/proc/self/exe) to re-execute it");
-  exe[n] = '\0';
+  const std::string exe = ThisProgram();
   const std::vector<std::string>& own = ProgramArguments();
   if (own.empty()) throw CommandError("internal: program arguments were not saved");
   std::vector<std::string> args = {

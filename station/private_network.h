@@ -12,6 +12,9 @@ namespace ts {
 // The program's own arguments, saved by main() for a re-execution.
 void SetProgramArguments(int argc, char** argv);
 
+// This program's executable (/proc/self/exe), to run it again; throws CommandError if unknown.
+std::string ThisProgram();
+
 // True when 127.0.0.2 is an address of this network namespace.
 bool HasSecondLoopbackAddress();
 

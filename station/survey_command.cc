@@ -46,11 +46,8 @@ struct SurveyArgs {
 
 // Runs this program with `args`, its output to `log`; throws with the log's path on failure.
 void RunSelf(const std::vector<std::string>& args, const std::string& log) {
-  char exe[4096];
-  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (n <= 0) throw CommandError("cannot find this program (/proc/self/exe)");
-  exe[n] = '\0';
-  std::vector<char*> argv = {exe};
+  std::string exe = ThisProgram();
+  std::vector<char*> argv = {exe.data()};
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
@@ -59,7 +56,7 @@ void RunSelf(const std::vector<std::string>& args, const std::string& log) {
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, exe, &actions, nullptr, argv.data(), environ);
+  const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   int status = 0;
   if (spawned != 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||

@@ -174,6 +174,8 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
     for (MatchedPair& m : results) matched_[m.index] = std::move(m);
     for (StereoPairImages& p : images) p.right = cv::Mat();  // the panorama needs the left ones
     panorama_->Add(images);
+    // The rig step needs them too: decoded once.
+    for (StereoPairImages& p : images) left_images_[p.index] = std::move(p);
   }
   nlohmann::json per_pair = nlohmann::json::array();
   for (const PairRecord& p : records) {

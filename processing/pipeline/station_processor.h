@@ -61,7 +61,8 @@ class StationProcessor {
   // The stage checked on the matched pairs' seams (rig_check.h); with self_calibrate_rig the
   // pairs' points, the panorama and `in`'s calibration move to the adjusted stage.
   bool CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s);
-  // The pairs' left images: those handed in (at the same read-back), the others from disk.
+  // The pairs' left images: those in hand (handed in or decoded for matching, at the same
+  // read-back), the others from disk.
   Result<std::vector<StereoPairImages>> LeftImages(const StationInputs& in,
                                                    const std::vector<PairRecord>& records) const;
   // The matched pairs, the cloud, the panorama and `in`'s calibration on `refined`'s stage.
@@ -77,9 +78,10 @@ class StationProcessor {
   std::condition_variable changed_;
   std::deque<Pending> queue_;
   bool busy_ = false, stopping_ = false;
-  std::map<int, MatchedPair> matched_;           // by pair index
-  std::map<int, StereoPairImages> left_images_;  // as handed in (no right image), for the rig
-  std::unique_ptr<PanoramaBuilder> panorama_;    // of the matched pairs
+  std::map<int, MatchedPair> matched_;  // by pair index
+  std::map<int, StereoPairImages>
+      left_images_;  // as handed in or decoded (no right image), for the rig
+  std::unique_ptr<PanoramaBuilder> panorama_;  // of the matched pairs
   std::string worker_calibration_sha256_;
   double worker_matching_s_ = 0.0;
   std::thread worker_;

@@ -316,17 +316,6 @@ void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
         {s + "share of object points removed", CountObjectPoints(*station, r).Removed(), "", ""});
 }
 
-// --seeds 2,3,...: the seeds to add (none by default).
-std::vector<uint64_t> SeedsFrom(int argc, char** argv) {
-  std::vector<uint64_t> seeds;
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::string(argv[i]) != "--seeds") continue;
-    std::stringstream list(argv[i + 1]);
-    for (std::string item; std::getline(list, item, ',');) seeds.push_back(std::stoull(item));
-  }
-  return seeds;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -338,7 +327,7 @@ int main(int argc, char** argv) {
         SceneTargets{"hills", 0.20, 0.01, Bowl(-11.5, 6.5, 5.0, 0.5)},
         SceneTargets{"slope", 0.35, 0.03}, SceneTargets{"forest", 0.35, 0.03}})
     SimulatedSurvey(t, &table);
-  for (const uint64_t seed : SeedsFrom(argc, argv))
+  for (const uint64_t seed : bench::SeedsArgument(argc, argv))
     for (const char* scene : {"hills", "forest"}) OtherSite(scene, seed, &table);
   return table.Finish(argc, argv);
 }

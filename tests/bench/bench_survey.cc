@@ -99,24 +99,15 @@ void SurveyScene(const SceneTargets& t, uint64_t seed, bench::Table* table) {
   table->Add({s + "DEM RMS error/std", e["std_ratio_rms"].get<double>(), "", ""});
 }
 
-std::vector<uint64_t> Seeds(int argc, char** argv) {
-  std::vector<uint64_t> seeds;
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::string(argv[i]) != "--seeds") continue;
-    std::istringstream list(argv[i + 1]);
-    for (std::string item; std::getline(list, item, ',');) seeds.push_back(std::stoull(item));
-  }
-  if (seeds.empty()) seeds.push_back(1);
-  return seeds;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   bench::Table table(
       "survey --sim on every scene, estimated calibration beside the true one: capture over "
       "the real drivers to DEM");
-  for (uint64_t seed : Seeds(argc, argv))
+  std::vector<uint64_t> seeds = bench::SeedsArgument(argc, argv);
+  if (seeds.empty()) seeds.push_back(1);
+  for (uint64_t seed : seeds)
     for (const SceneTargets& t :
          {SceneTargets{"flat", 0.10}, SceneTargets{"hills", 0.20}, SceneTargets{"slope", 0.35},
           SceneTargets{"forest", 0.35}, SceneTargets{"rough", std::nullopt}})

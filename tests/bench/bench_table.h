@@ -2,9 +2,11 @@
 // Benchmarks print a table and write the same rows as JSON (--json FILE). Targets are
 // checked here, never in unit tests; a row that misses its target makes the run fail.
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,6 +57,17 @@ class Table {
   std::string title_;
   std::vector<Row> rows_;
 };
+
+// The seeds of `--seeds 2,3,...` (empty when not given).
+inline std::vector<uint64_t> SeedsArgument(int argc, char** argv) {
+  std::vector<uint64_t> seeds;
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) != "--seeds") continue;
+    std::stringstream list(argv[i + 1]);
+    for (std::string item; std::getline(list, item, ',');) seeds.push_back(std::stoull(item));
+  }
+  return seeds;
+}
 
 // Wall time of fn in seconds: best of `repeats`.
 template <typename Fn>
