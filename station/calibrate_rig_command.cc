@@ -1,10 +1,12 @@
-// `calibrate rig STATION --calibration CAL.yaml --out CAL.yaml` (issue 21): the stage
-// kinematics refined on a captured panorama's own tie points, the cameras and the stereo pair
-// held (processing/pipeline/rig_check.h, the same check `process` makes).
+// `calibrate rig STATION... --calibration CAL.yaml --out CAL.yaml` (issue 21): the stage
+// kinematics refined on captured panoramas' own tie points, the cameras and the stereo pair
+// held (processing/pipeline/rig_check.h, the same check `process` makes). Several stations of
+// the rig join one adjustment: the stage is shared, each station's levelling its own.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "processing/io/atomic_file.h"
 #include "processing/io/calibration_yaml.h"
@@ -25,7 +27,8 @@ struct CalibrateRigArgs {
   bool json = false;
 };
 
-RigCheck CheckStation(const std::string& station, const std::string& calibration_file) {
+// A station's tie points, with the calibration's stage and the station's levelling and height.
+RigAdjustmentInput StationTies(const std::string& station, const std::string& calibration_file) {
   const Result<StationInputs> in = LoadStationInputs(station, calibration_file, "");
   if (!in) throw CommandError(in.error());
   const Calibration start = StationStart(in->calibration, in->manifest);
@@ -38,9 +41,17 @@ RigCheck CheckStation(const std::string& station, const std::string& calibration
   if (pairs.size() < 2) throw CommandError(station + ": fewer than two pairs: nothing to tie");
   const std::vector<MatchedPair> matched =
       MatchPairsIntoL(start, Rectify(start.rig), pairs, PairMatchOptions::ForStation());
-  const Result<RigCheck> check = CheckRig(start, pairs, matched, {}, {});
-  if (!check) throw CommandError(station + ": " + check.error());
-  return *check;
+  return StationTiePoints(start, pairs, matched, {});
+}
+
+RigCheck CheckStations(const std::vector<std::string>& stations,
+                       const std::string& calibration_file) {
+  std::vector<RigAdjustmentInput> ties;
+  for (const std::string& station : stations)
+    ties.push_back(StationTies(station, calibration_file));
+  const Result<RigCheck> check = CheckRig(ties, {});
+  if (check) return *check;
+  throw CommandError((stations.size() == 1 ? stations[0] : "calibrate rig") + ": " + check.error());
 }
 
 void PrintSeams(const char* when, const RigSeams& seams) {
@@ -48,13 +59,29 @@ void PrintSeams(const char* when, const RigSeams& seams) {
               when, seams.median_px, seams.median_mm, 100 * seams.within_2_sigma);
 }
 
+void PrintStations(const std::vector<std::string>& stations, const RigCheck& check) {
+  const RigAdjustment& r = check.adjustment;
+  for (size_t k = 0; k < check.station_after.size(); ++k)
+    std::printf("  %s: levelling %+.4f +- %.4f, %+.4f +- %.4f deg; seams after %.1f %%\n",
+                stations[k].c_str(), r.levelling_deg[k].x(), r.levelling_sigma_deg[k].x(),
+                r.levelling_deg[k].y(), r.levelling_sigma_deg[k].y(),
+                100 * check.station_after[k].within_2_sigma);
+}
+
+// The same directory however it is written (a station given twice would count twice).
+std::string StationKey(const std::string& station) {
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::canonical(station, ec);
+  return ec ? station : canonical.string();
+}
+
 void RunCalibrateRig(const CalibrateRigArgs& args) {
-  if (args.stations.size() != 1)
-    throw CommandError("calibrate rig: one station at a time for now (given " +
-                       std::to_string(args.stations.size()) + ")");
+  std::set<std::string> distinct;
+  for (const std::string& s : args.stations)
+    if (!distinct.insert(StationKey(s)).second) throw CommandError(s + ": given twice");
   const Result<Calibration> given = LoadCalibrationYaml(args.calibration);
   if (!given) throw CommandError(given.error());
-  const RigCheck check = CheckStation(args.stations[0], args.calibration);
+  const RigCheck check = CheckStations(args.stations, args.calibration);
   const RigAdjustment& r = check.adjustment;
   Calibration out = *given;
   out.stage = r.stage;
@@ -63,7 +90,10 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     throw CommandError("calibrate rig: the adjusted stage is not valid: " + why);
   if (Status s = SaveCalibrationYaml(out, args.out); !s) throw CommandError(s.error());
   nlohmann::json j = RigCheckJson(check, true);
-  j["station"] = args.stations[0];
+  if (j.contains("stations"))
+    for (size_t k = 0; k < args.stations.size(); ++k) j["stations"][k]["dir"] = args.stations[k];
+  else
+    j["station"] = args.stations[0];
   j["out"] = args.out;
   // The report beside the file, as calibrate camera/stereo leave theirs.
   const std::string report = CalibrationReportDir(args.out);
@@ -87,6 +117,7 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     if (r.sigma[i] > 0.0)
       std::printf("  %-22s %+.5f +- %.5f (change %+.5f)\n", kStageParameterNames[i], a[i],
                   r.sigma[i], a[i] - b[i]);
+  PrintStations(args.stations, check);
   for (const std::string& w : r.undetermined) std::printf("  %s\n", w.c_str());
   std::printf("written %s, report and seams.png in %s\n", args.out.c_str(),
               CalibrationReportDir(args.out).c_str());
@@ -98,7 +129,10 @@ void AddCalibrateRigCommand(CLI::App* calibrate) {
   auto args = std::make_shared<CalibrateRigArgs>();
   CLI::App* rig = calibrate->add_subcommand(
       "rig", "The stage kinematics from a captured panorama's own tie points");
-  rig->add_option("STATION", args->stations, "a captured station directory")->required();
+  rig->add_option(
+         "STATION", args->stations,
+         "captured station directories of the rig (one adjustment, each levelled its own way)")
+      ->required();
   rig->add_option("--calibration", args->calibration,
                   "the calibration to refine (cameras and stereo pair held)")
       ->required();

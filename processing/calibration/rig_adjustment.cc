@@ -26,28 +26,43 @@ constexpr double kRejectionK = 4.0;
 
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
+// The adjustment's parameters as one list: the shared stage's (kStageParameterCount; its
+// levelling is not used, each station has its own), then each station's levelling.
+int LevellingParameter(int station, int axis) { return kStageParameterCount + 2 * station + axis; }
+
+std::string ParameterName(int i, int stations) {
+  if (i < kStageParameterCount) return kStageParameterNames[i];
+  const int station = (i - kStageParameterCount) / 2;
+  return std::string(kStageParameterNames[i % 2]) +
+         (stations > 1 ? fmt::format(" of station {}", station + 1) : "");
+}
+
+// Jet slots: the station's levelling in the stage's levelling slots (0, 1), the rest of the
+// stage, then the encoder corrections.
 using KinematicsJet = ceres::Jet<double, kStageParameterCount + 2>;
 
-// One camera at one stage pose: its place in L as jets of the stage and the pose's encoder
-// corrections. The same for every tie point the camera saw there, and the most costly part of
-// a residual: computed once per set of parameter values (residuals are evaluated on several
-// threads, hence the lock).
+// One camera at one stage pose: its place in L as jets of the stage, the station's levelling
+// and the pose's encoder corrections. The same for every tie point the camera saw there, and
+// the most costly part of a residual: computed once per set of parameter values (residuals
+// may be evaluated on several threads, hence the lock).
 class CameraPlacement {
  public:
   CameraPlacement(const Eigen::Isometry3d& s_from_camera, const RigPose& pose)
       : s_from_camera_(s_from_camera), pose_(pose) {
     key_.fill(std::numeric_limits<double>::quiet_NaN());
   }
-  void Get(const double* stage, const double* encoder, Eigen::Matrix<KinematicsJet, 3, 3>* r_lc,
-           Eigen::Matrix<KinematicsJet, 3, 1>* t_lc) {
+  void Get(const double* stage, const double* levelling, const double* encoder,
+           Eigen::Matrix<KinematicsJet, 3, 3>* r_lc, Eigen::Matrix<KinematicsJet, 3, 1>* t_lc) {
     std::array<double, kStageParameterCount + 2> key;
     std::copy(stage, stage + kStageParameterCount, key.begin());
+    key[0] = levelling[0];
+    key[1] = levelling[1];
     key[kStageParameterCount] = encoder[0];
     key[kStageParameterCount + 1] = encoder[1];
     std::lock_guard lock(mutex_);
     if (key != key_) {
       std::array<KinematicsJet, kStageParameterCount> v;
-      for (int i = 0; i < kStageParameterCount; ++i) v[i] = KinematicsJet(stage[i], i);
+      for (int i = 0; i < kStageParameterCount; ++i) v[i] = KinematicsJet(key[i], i);
       const KinematicsJet pan(pose_.pan_deg + encoder[0], kStageParameterCount);
       const KinematicsJet tilt(pose_.tilt_deg + encoder[1], kStageParameterCount + 1);
       Eigen::Matrix<KinematicsJet, 3, 3> r_ls;
@@ -89,7 +104,7 @@ std::shared_ptr<CameraPlacement> PlacementOf(
 
 // One image's measurement of a tie point. The stage's kinematics are differentiated by Ceres'
 // jets, the projection (which inverts the distortion by Newton's method) analytically.
-class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
+class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 2, 3> {
  public:
   TieCost(const Calibration& calibration, const RigTieObservation& t,
           std::shared_ptr<CameraPlacement> placement, double sigma_px)
@@ -98,13 +113,14 @@ class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
         pixel_(t.pixel),
         sigma_px_(sigma_px) {}
 
-  // Parameters: the stage vector, the encoder corrections (deg), the point in L.
+  // Parameters: the stage vector, the station's levelling and the pose's encoder corrections
+  // (deg), the point in L.
   bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
     using Jet = KinematicsJet;
     Eigen::Matrix<Jet, 3, 3> r_lc;
     Eigen::Matrix<Jet, 3, 1> t_lc;
-    placement_->Get(x[0], x[1], &r_lc, &t_lc);
-    const Eigen::Matrix<Jet, 3, 1> point{Jet(x[2][0]), Jet(x[2][1]), Jet(x[2][2])};
+    placement_->Get(x[0], x[1], x[2], &r_lc, &t_lc);
+    const Eigen::Matrix<Jet, 3, 1> point{Jet(x[3][0]), Jet(x[3][1]), Jet(x[3][2])};
     const Eigen::Matrix<Jet, 3, 1> in_camera = r_lc.transpose() * (point - t_lc);
     const Eigen::Vector3d p(in_camera[0].a, in_camera[1].a, in_camera[2].a);
     Eigen::Vector2d projected;
@@ -123,16 +139,21 @@ class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 3> {
     if (jacobians[0]) {
       Eigen::Map<RowMajor2x14> d_stage(jacobians[0]);
       d_stage = d_angles.leftCols<kStageParameterCount>();
+      d_stage.leftCols<2>().setZero();  // the levelling slots are the station's
     }
     if (jacobians[1]) {
-      Eigen::Map<RowMajor2x2> d_encoder(jacobians[1]);
-      d_encoder = d_angles.rightCols<2>();
+      Eigen::Map<RowMajor2x2> d_levelling(jacobians[1]);
+      d_levelling = d_angles.leftCols<2>();
     }
     if (jacobians[2]) {
+      Eigen::Map<RowMajor2x2> d_encoder(jacobians[2]);
+      d_encoder = d_angles.rightCols<2>();
+    }
+    if (jacobians[3]) {
       Eigen::Matrix3d r_cl;
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) r_cl(a, b) = r_lc(b, a).a;
-      Eigen::Map<RowMajor2x3> d_point(jacobians[2]);
+      Eigen::Map<RowMajor2x3> d_point(jacobians[3]);
       d_point = d * r_cl;
     }
     return true;
@@ -163,31 +184,39 @@ ceres::CostFunction* ParameterObservation(const ParameterCost& cost, int size) {
   return f;
 }
 
-StageVector PriorSigmas(const RigAdjustmentOptions& o) {
-  StageVector s;
+std::vector<double> PriorSigmas(const RigAdjustmentOptions& o, int stations) {
+  std::vector<double> s(kStageParameterCount + 2 * stations, o.prior_angle_sigma_deg);
   for (int i = 0; i < kStageParameterCount; ++i)
-    s[i] = IsOffset(i) ? o.prior_offset_sigma_m : o.prior_angle_sigma_deg;
+    if (IsOffset(i)) s[i] = o.prior_offset_sigma_m;
   return s;
 }
 
 struct Unknowns {
   StageVector stage{};
-  std::vector<std::array<double, 2>> encoder;  // per pose: true minus read-back, deg
+  std::vector<std::array<double, 2>> levelling;  // per station, deg
+  std::vector<std::array<double, 2>> encoder;    // per pose: true minus read-back, deg
   std::vector<Eigen::Vector3d> points;
+  double* BlockOf(int i) {
+    return i < kStageParameterCount ? stage.data()
+                                    : levelling[(i - kStageParameterCount) / 2].data();
+  }
+  double& Parameter(int i) { return BlockOf(i)[i < kStageParameterCount ? i : i % 2]; }
 };
 
 // `robust`: a Huber loss on the images, for the first round, before mismatched tie points are
 // rejected; after it plain least squares, which converges in a few Gauss-Newton steps where
 // the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred.
 void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, bool robust,
-                  double pixel_sigma_px, const StageVector& prior, const std::set<int>& held,
-                  const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
+                  double pixel_sigma_px, const std::vector<double>& prior,
+                  const std::set<int>& held, const std::vector<char>& rejected, Unknowns* u,
+                  ceres::Problem* problem) {
   const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
     auto* cost = new TieCost(in.calibration, t, PlacementOf(placements, t), pixel_sigma_px);
     problem->AddResidualBlock(cost, robust ? new ceres::HuberLoss(3.0) : nullptr, u->stage.data(),
+                              u->levelling[in.poses[t.pose].station].data(),
                               u->encoder[t.pose].data(), u->points[t.point].data());
   }
   for (auto& e : u->encoder)
@@ -195,26 +224,43 @@ void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, b
       problem->AddResidualBlock(
           ParameterObservation({{0, 1}, {0.0, 0.0}, {o.encoder_sigma_deg, o.encoder_sigma_deg}}, 2),
           nullptr, e.data());
-  const StageVector sigma = PriorSigmas(o);
-  ParameterCost prior_cost;
-  for (int i = 0; i < kStageParameterCount; ++i)
-    if (!held.count(i)) {
-      prior_cost.index.push_back(i);
-      prior_cost.value.push_back(prior[i]);
-      prior_cost.sigma.push_back(sigma[i]);
+  const std::vector<RigStation> stations = in.Stations();
+  const std::vector<double> sigma = PriorSigmas(o, static_cast<int>(stations.size()));
+  // The prior of each block's free parameters, observed as parameters of that block.
+  const auto add_prior = [&](double* block, int first, int size) {
+    ParameterCost cost;
+    std::vector<int> constant;
+    for (int k = 0; k < size; ++k) {
+      if (held.count(first + k)) {
+        constant.push_back(k);
+        continue;
+      }
+      cost.index.push_back(k);
+      cost.value.push_back(prior[first + k]);
+      cost.sigma.push_back(sigma[first + k]);
     }
-  problem->AddResidualBlock(ParameterObservation(prior_cost, kStageParameterCount), nullptr,
-                            u->stage.data());
-  if (in.inclinometer_deg && !held.count(0) && !held.count(1))
-    problem->AddResidualBlock(
-        ParameterObservation({{0, 1},
-                              {in.inclinometer_deg->x(), in.inclinometer_deg->y()},
-                              {o.inclinometer_sigma_deg, o.inclinometer_sigma_deg}},
-                             kStageParameterCount),
-        nullptr, u->stage.data());
-  problem->SetManifold(
-      u->stage.data(),
-      new ceres::SubsetManifold(kStageParameterCount, std::vector<int>(held.begin(), held.end())));
+    if (cost.index.empty()) {
+      problem->SetParameterBlockConstant(block);
+      return;
+    }
+    problem->AddResidualBlock(ParameterObservation(cost, size), nullptr, block);
+    if (!constant.empty()) problem->SetManifold(block, new ceres::SubsetManifold(size, constant));
+  };
+  add_prior(u->stage.data(), 0, kStageParameterCount);
+  for (size_t s = 0; s < stations.size(); ++s) {
+    double* levelling = u->levelling[s].data();
+    if (!problem->HasParameterBlock(levelling)) continue;
+    const int x = LevellingParameter(static_cast<int>(s), 0);
+    if (stations[s].inclinometer_deg && !held.count(x) && !held.count(x + 1))
+      problem->AddResidualBlock(
+          ParameterObservation(
+              {{0, 1},
+               {stations[s].inclinometer_deg->x(), stations[s].inclinometer_deg->y()},
+               {o.inclinometer_sigma_deg, o.inclinometer_sigma_deg}},
+              2),
+          nullptr, levelling);
+    add_prior(levelling, x, 2);
+  }
 }
 
 // The robust round only has to bring the mismatched tie points out for rejection; its Huber
@@ -234,18 +280,33 @@ Status Solve(bool robust, ceres::Problem* problem) {
   return {};
 }
 
-// The stage parameters' covariance (a priori scale; zero rows for held ones), or nothing when
+// The parameters free in the problem, in the order of the Jacobian's columns: a station's
+// levelling whose block left the problem (its tie points all rejected) is not.
+std::vector<int> FreeParameters(Unknowns* u, const std::set<int>& held, ceres::Problem* problem) {
+  std::vector<int> free;
+  for (int i = 0; i < kStageParameterCount + 2 * static_cast<int>(u->levelling.size()); ++i)
+    if (!held.count(i) && problem->HasParameterBlock(u->BlockOf(i))) free.push_back(i);
+  return free;
+}
+
+// The covariance of the parameters (a priori scale; zero rows for held ones), or nothing when
 // the normal matrix is singular. The points are eliminated block by block (each residual
 // block of a tie observation holds one point), so the work grows with the observations, not
 // with the cube of the unknowns as a QR of the whole Jacobian does.
-std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, const std::set<int>& held,
-                                               ceres::Problem* problem) {
+std::optional<Eigen::MatrixXd> ParameterCovariance(Unknowns* u, const std::vector<int>& free,
+                                                   ceres::Problem* problem) {
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks.push_back(u->stage.data());
+  for (auto& l : u->levelling)
+    if (problem->HasParameterBlock(l.data()) && !problem->IsParameterBlockConstant(l.data()))
+      options.parameter_blocks.push_back(l.data());
+  int encoders = 0;
   for (auto& e : u->encoder)
-    if (problem->HasParameterBlock(e.data())) options.parameter_blocks.push_back(e.data());
-  const int reduced = kStageParameterCount - static_cast<int>(held.size()) +
-                      2 * (static_cast<int>(options.parameter_blocks.size()) - 1);
+    if (problem->HasParameterBlock(e.data())) {
+      options.parameter_blocks.push_back(e.data());
+      ++encoders;
+    }
+  const int reduced = static_cast<int>(free.size()) + 2 * encoders;
   // A point whose observations were all rejected has left the problem.
   std::vector<int> column_point;
   for (size_t p = 0; p < u->points.size(); ++p)
@@ -296,23 +357,19 @@ std::optional<Eigen::MatrixXd> StageCovariance(Unknowns* u, const std::set<int>&
       (eigen.eigenvectors() * eigen.eigenvalues().cwiseInverse().asDiagonal() *
        eigen.eigenvectors().transpose()) *
       scale.asDiagonal();
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(kStageParameterCount, kStageParameterCount);
-  std::vector<int> free;
-  for (int i = 0; i < kStageParameterCount; ++i)
-    if (!held.count(i)) free.push_back(i);
+  const int parameters = kStageParameterCount + 2 * static_cast<int>(u->levelling.size());
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(parameters, parameters);
   for (size_t r = 0; r < free.size(); ++r)
     for (size_t c = 0; c < free.size(); ++c) covariance(free[r], free[c]) = inverse(r, c);
   return covariance;
 }
 
 // The free parameters that dominate a combination the data tell less of than the prior did.
-std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::set<int>& held,
-                              const RigAdjustmentOptions& o, std::vector<std::string>* why) {
-  std::vector<int> free;
-  for (int i = 0; i < kStageParameterCount; ++i)
-    if (!held.count(i)) free.push_back(i);
+std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::vector<int>& free,
+                              const RigAdjustmentOptions& o, int stations,
+                              std::vector<std::string>* why) {
   const int n = static_cast<int>(free.size());
-  const StageVector sigma = PriorSigmas(o);
+  const std::vector<double> sigma = PriorSigmas(o, stations);
   Eigen::MatrixXd c(n, n);
   Eigen::VectorXd d(n);
   for (int a = 0; a < n; ++a) {
@@ -331,7 +388,7 @@ std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::set<
     const int parameter = free[dominant];
     if (std::find(named.begin(), named.end(), parameter) != named.end()) continue;
     named.push_back(parameter);
-    why->push_back(std::string(kStageParameterNames[parameter]) +
+    why->push_back(ParameterName(parameter, stations) +
                    ": not determined by this panorama (the data add " +
                    fmt::format("{:.2g}", std::max(0.0, eigen.eigenvalues()[k])) +
                    " of the prior's information), held at its prior");
@@ -339,9 +396,14 @@ std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::set<
   return named;
 }
 
+// Every station needs a point seen from two of its poses; a tie point belongs to one station.
 Status CheckInput(const RigAdjustmentInput& in) {
   if (in.poses.empty() || in.points.empty() || in.observations.empty())
     return Error{"no tie points"};
+  const int stations = static_cast<int>(in.Stations().size());
+  for (const RigPose& pose : in.poses)
+    if (pose.station < 0 || pose.station >= stations)
+      return Error{fmt::format("a pose names station {} of {}", pose.station + 1, stations)};
   std::vector<std::set<int>> poses_of(in.points.size());
   for (const RigTieObservation& t : in.observations) {
     if (t.pose < 0 || t.pose >= static_cast<int>(in.poses.size()) || t.point < 0 ||
@@ -349,9 +411,18 @@ Status CheckInput(const RigAdjustmentInput& in) {
       return Error{"a tie observation names no pose or point, or its pixel is not finite"};
     poses_of[t.point].insert(t.pose);
   }
-  for (const auto& poses : poses_of)
-    if (poses.size() >= 2) return {};
-  return Error{"no point is seen from two stage poses: nothing ties the poses together"};
+  std::vector<char> tied(stations, 0);
+  for (const auto& poses : poses_of) {
+    std::set<int> of;
+    for (int pose : poses) of.insert(in.poses[pose].station);
+    if (of.size() > 1) return Error{"a tie point is seen from two stations"};
+    if (poses.size() >= 2) tied[*of.begin()] = 1;
+  }
+  for (int s = 0; s < stations; ++s)
+    if (!tied[s])
+      return Error{(stations > 1 ? fmt::format("station {}: ", s + 1) : std::string()) +
+                   "no point is seen from two stage poses: nothing ties the poses together"};
+  return {};
 }
 
 }  // namespace
@@ -362,7 +433,8 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
   std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
     double residual[2] = {1e30, 1e30};
-    const double* x[] = {u.stage.data(), u.encoder[t.pose].data(), u.points[t.point].data()};
+    const double* x[] = {u.stage.data(), u.levelling[in.poses[t.pose].station].data(),
+                         u.encoder[t.pose].data(), u.points[t.point].data()};
     TieCost(in.calibration, t, PlacementOf(placements, t), 1.0).Evaluate(x, residual, nullptr);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
@@ -391,20 +463,31 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   std::string why;
   if (!o.Check(&why)) return Error{"rig adjustment: " + why};
   if (Status s = CheckInput(in); !s) return Error{"rig adjustment: " + s.error()};
-  const StageVector prior = StageVectorOf(in.calibration.stage);
-  std::set<int> held = {kPanZero};
+  const std::vector<RigStation> stations = in.Stations();
+  const int station_count = static_cast<int>(stations.size());
+  // The prior, one list (LevellingParameter): the stage's, then each station's levelling.
+  const StageVector stage_prior = StageVectorOf(in.calibration.stage);
+  std::vector<double> prior(stage_prior.begin(), stage_prior.end());
+  for (const RigStation& s : stations)
+    prior.insert(prior.end(), {s.levelling_deg.x(), s.levelling_deg.y()});
+  // The stage's own levelling slots are the stations' (held, unused); the pan zero is the
+  // azimuth datum.
+  std::set<int> held = {0, 1, kPanZero};
   RigAdjustment r;
   Unknowns u;
   // The images' sigma is estimated as a variance component, so that the sigmas weigh the
   // images against the encoders and the inclinometer by what the images really show.
   double pixel_sigma = o.pixel_sigma_px;
-  u.stage = prior;
+  u.stage = stage_prior;
+  u.levelling.resize(stations.size());
+  for (int i = kStageParameterCount; i < static_cast<int>(prior.size()); ++i)
+    u.Parameter(i) = prior[i];
   u.encoder.assign(in.poses.size(), {0.0, 0.0});
   u.points = in.points;
   std::vector<char> rejected(in.observations.size(), 0);
   // Each round starts from the last one's solution, a newly held parameter from its prior.
   for (int weighing = 0, observability = 0;;) {
-    for (int i : held) u.stage[i] = prior[i];
+    for (int i : held) u.Parameter(i) = prior[i];
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
     BuildProblem(in, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
@@ -420,8 +503,9 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
         coordinates += in.observations[i].along_epipolar_only ? 1 : 2;
         points.insert(in.observations[i].point);
       }
-    const int free = kStageParameterCount - static_cast<int>(held.size());
-    const int redundancy = coordinates - 3 * static_cast<int>(points.size()) - free;
+    const std::vector<int> free = FreeParameters(&u, held, &problem);
+    const int redundancy =
+        coordinates - 3 * static_cast<int>(points.size()) - static_cast<int>(free.size());
     if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
     const double image_sigma = std::sqrt(squares / redundancy);
     const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;
@@ -433,10 +517,10 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     r.observations = kept;
     r.rejected_observation = problem_rejected;
     r.rejected = static_cast<int>(in.observations.size()) - kept;
-    const std::optional<Eigen::MatrixXd> covariance = StageCovariance(&u, held, &problem);
+    const std::optional<Eigen::MatrixXd> covariance = ParameterCovariance(&u, free, &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
-    const std::vector<int> named = Undetermined(*covariance, held, o, &reasons);
+    const std::vector<int> named = Undetermined(*covariance, free, o, station_count, &reasons);
     if (!named.empty() && observability++ < kMaxObservabilityRounds) {
       held.insert(named.begin(), named.end());
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
@@ -444,12 +528,65 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     }
     r.rms_px = std::sqrt(squares / (2.0 * kept));
     r.image_sigma_px = image_sigma;
-    for (int i = 0; i < kStageParameterCount; ++i)
-      r.sigma[i] = held.count(i) ? 0.0 : std::sqrt((*covariance)(i, i));
-    r.stage = StageKinematicsOf(u.stage, in.calibration.stage);
+    const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, (*covariance)(i, i))); };
+    for (int s = 0; s < station_count; ++s) {
+      const int x = LevellingParameter(s, 0);
+      r.levelling_deg.emplace_back(u.Parameter(x), u.Parameter(x + 1));
+      r.levelling_sigma_deg.emplace_back(sigma_of(x), sigma_of(x + 1));
+    }
+    StageVector stage = u.stage;
+    for (int i = 0; i < kStageParameterCount; ++i) r.sigma[i] = sigma_of(i);
+    for (int axis : {0, 1}) {
+      stage[axis] = r.levelling_deg[0][axis];
+      r.sigma[axis] = r.levelling_sigma_deg[0][axis];
+    }
+    r.stage = StageKinematicsOf(stage, in.calibration.stage);
     r.points = u.points;
     return r;
   }
+}
+
+std::vector<RigStation> RigAdjustmentInput::Stations() const {
+  if (!stations.empty()) return stations;
+  RigStation one;
+  one.levelling_deg = {calibration.stage.levelling_x_deg, calibration.stage.levelling_y_deg};
+  return {one};
+}
+
+Calibration RigAdjustmentInput::CalibrationOf(int station) const {
+  Calibration c = calibration;
+  const Eigen::Vector2d levelling = Stations()[station].levelling_deg;
+  c.stage.levelling_x_deg = levelling.x();
+  c.stage.levelling_y_deg = levelling.y();
+  return c;
+}
+
+RigAdjustmentInput JoinStations(const std::vector<RigAdjustmentInput>& inputs) {
+  RigAdjustmentInput joined;
+  if (inputs.empty()) return joined;
+  joined.calibration = inputs.front().calibration;
+  for (const RigAdjustmentInput& in : inputs) {
+    const int first_pose = static_cast<int>(joined.poses.size());
+    const int first_point = static_cast<int>(joined.points.size());
+    const int first_station = static_cast<int>(joined.stations.size());
+    for (const RigStation& s : in.Stations()) joined.stations.push_back(s);
+    for (RigPose pose : in.poses) {
+      pose.station += first_station;
+      joined.poses.push_back(pose);
+    }
+    for (RigTieObservation t : in.observations) {
+      t.pose += first_pose;
+      t.point += first_point;
+      joined.observations.push_back(t);
+    }
+    joined.points.insert(joined.points.end(), in.points.begin(), in.points.end());
+    // Kept aligned with the points: a station without covariances adds zeros.
+    joined.point_covariance_m2.resize(first_point, Eigen::Matrix3d::Zero());
+    joined.point_covariance_m2.insert(joined.point_covariance_m2.end(),
+                                      in.point_covariance_m2.begin(), in.point_covariance_m2.end());
+  }
+  joined.point_covariance_m2.resize(joined.points.size(), Eigen::Matrix3d::Zero());
+  return joined;
 }
 
 }  // namespace ts

@@ -12,6 +12,10 @@
 // parameter has a prior (the previous calibration, sigmas of prior_*). The pan zero is the
 // azimuth datum, which no panorama shows: it is held.
 //
+// Several stations of one rig join one adjustment: the stage is the rig's and shared, the
+// levelling is each set-up's own (with its own inclinometer reading and prior), and tie points
+// tie poses of one station only.
+//
 // What a panorama cannot determine is found on the information it adds to the prior: the
 // stage parameters' marginal information from the data, scaled by the prior sigmas, has an
 // eigenvector for every combination of them; where an eigenvalue is below 1 (the data tell less
@@ -53,6 +57,13 @@ struct RigAdjustmentOptions {
 struct RigPose {
   double pan_deg = 0.0;  // encoder read-back
   double tilt_deg = 0.0;
+  int station = 0;  // index into the input's stations
+};
+
+// One set-up of the tripod: what is its own rather than the rig's.
+struct RigStation {
+  Eigen::Vector2d levelling_deg = Eigen::Vector2d::Zero();  // the start and the prior
+  std::optional<Eigen::Vector2d> inclinometer_deg;          // its reading, when there is one
 };
 
 struct RigTieObservation {
@@ -66,19 +77,26 @@ struct RigTieObservation {
 };
 
 struct RigAdjustmentInput {
-  Calibration calibration;  // the cameras held; its stage is the prior and the start
+  // The cameras held; its stage is the prior and the start of what the stations share.
+  Calibration calibration;
+  // Empty: one station, levelled as calibration.stage, without an inclinometer.
+  std::vector<RigStation> stations;
   std::vector<RigPose> poses;
   std::vector<RigTieObservation> observations;
   std::vector<Eigen::Vector3d> points;  // each tie point's start in L
   // Its covariance from its pair's intersection (m^2, in L), for the seams' predicted sigma.
   std::vector<Eigen::Matrix3d> point_covariance_m2;
-  // Levelling read by the inclinometer (deg, about L's X and Y).
-  std::optional<Eigen::Vector2d> inclinometer_deg;
+  // The stations as given, or the one station an empty list stands for.
+  std::vector<RigStation> Stations() const;
+  // calibration with the levelling of a station (that with which its points were intersected).
+  Calibration CalibrationOf(int station) const;
 };
 
 struct RigAdjustment {
-  StageKinematics stage;
-  StageVector sigma{};  // a posteriori; 0 for a held parameter
+  StageKinematics stage;  // levelled as the first station
+  StageVector sigma{};    // a posteriori; 0 for a held parameter
+  // Each station's levelling and its sigma (deg, about L's X and Y).
+  std::vector<Eigen::Vector2d> levelling_deg, levelling_sigma_deg;
   // The parameters held at their prior because the panorama does not determine them, with why.
   std::vector<std::string> undetermined;
   // Of an image coordinate, a posteriori (a variance component: the sigmas above are weighed
@@ -90,6 +108,10 @@ struct RigAdjustment {
   std::vector<char> rejected_observation;  // per input observation
   std::vector<Eigen::Vector3d> points;     // adjusted, in L
 };
+
+// The tie points of several stations of one rig as one input: poses, points and observations
+// renumbered, each pose knowing its station; the first station's calibration is the start.
+RigAdjustmentInput JoinStations(const std::vector<RigAdjustmentInput>& stations);
 
 // Needs observations of at least one point from two poses.
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& input,

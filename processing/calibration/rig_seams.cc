@@ -17,7 +17,7 @@ double Median(std::vector<double> v) {
 }  // namespace
 
 RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& stage,
-                         const RigAdjustment& adjustment) {
+                         const RigAdjustment& adjustment, int station) {
   const double image_sigma_px = adjustment.image_sigma_px;
   Calibration moved = in.calibration;
   moved.stage = stage;
@@ -26,6 +26,11 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& st
   const auto l_from_left = [](const Calibration& calibration, const RigPose& pose) {
     return calibration.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
   };
+  // Each station's points were intersected with its own levelling; a levelling turns all of a
+  // station's poses alike, so the seams do not depend on the one `stage` carries.
+  std::vector<Calibration> intersected;
+  for (size_t s = 0; s < in.Stations().size(); ++s)
+    intersected.push_back(in.CalibrationOf(static_cast<int>(s)));
   std::vector<int> first_pose(in.points.size(), -1);
   std::vector<char> mismatched(in.points.size(), 0);
   for (size_t i = 0; i < in.observations.size(); ++i) {
@@ -40,9 +45,11 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& st
   for (const RigTieObservation& t : in.observations) {
     const int k = first_pose[t.point];
     if (t.pose == k || t.side != Side::kLeft || mismatched[t.point]) continue;
+    if (station >= 0 && in.poses[k].station != station) continue;
     // The pair's point, moved with its pose from the input's stage to `stage`.
     const Eigen::Isometry3d move =
-        l_from_left(moved, in.poses[k]) * l_from_left(in.calibration, in.poses[k]).inverse();
+        l_from_left(moved, in.poses[k]) *
+        l_from_left(intersected[in.poses[k].station], in.poses[k]).inverse();
     const Eigen::Vector3d point = move * in.points[t.point];
     const Eigen::Isometry3d camera_from_l = l_from_left(moved, in.poses[t.pose]).inverse();
     const Eigen::Vector3d in_camera = camera_from_l * point;

@@ -34,7 +34,8 @@ struct RigSeams {
 
 // The seams with `stage` in place of in.calibration's (each pair's points moved with their
 // pair's pose): before the adjustment with in.calibration.stage, after it with its stage.
+// Several stations: the seams of all of them, or of one (`station` >= 0).
 RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& stage,
-                         const RigAdjustment& adjustment);
+                         const RigAdjustment& adjustment, int station = -1);
 
 }  // namespace ts

@@ -135,6 +135,7 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
                                     const RigTiePointOptions& o) {
   RigAdjustmentInput input;
   input.calibration = calibration;
+  input.stations = input.Stations();  // one, levelled as the calibration
   std::vector<View> views;
   for (const StereoPairImages& pair : pairs) {
     input.poses.push_back({pair.pan_deg, pair.tilt_deg});

@@ -11,21 +11,40 @@ Calibration StationStart(const Calibration& calibration, const StationManifest& 
   return start;
 }
 
+RigAdjustmentInput StationTiePoints(const Calibration& start,
+                                    const std::vector<StereoPairImages>& pairs,
+                                    const std::vector<MatchedPair>& matched,
+                                    const RigTiePointOptions& tie_options) {
+  RigAdjustmentInput tie = FindRigTiePoints(start, pairs, matched, tie_options);
+  tie.stations[0].inclinometer_deg = tie.stations[0].levelling_deg;
+  return tie;
+}
+
 Result<RigCheck> CheckRig(const Calibration& start, const std::vector<StereoPairImages>& pairs,
                           const std::vector<MatchedPair>& matched,
                           const RigTiePointOptions& tie_options,
                           const RigAdjustmentOptions& adjustment_options) {
-  RigAdjustmentInput tie = FindRigTiePoints(start, pairs, matched, tie_options);
-  tie.inclinometer_deg = Eigen::Vector2d(start.stage.levelling_x_deg, start.stage.levelling_y_deg);
+  return CheckRig({StationTiePoints(start, pairs, matched, tie_options)}, adjustment_options);
+}
+
+Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
+                          const RigAdjustmentOptions& adjustment_options) {
+  if (stations.empty()) return Error{"rig check: no station"};
+  const RigAdjustmentInput tie = stations.size() == 1 ? stations[0] : JoinStations(stations);
   Result<RigAdjustment> adjusted = AdjustRig(tie, adjustment_options);
   if (!adjusted) return Error{adjusted.error()};
   RigCheck check;
-  check.start = start.stage;
+  check.start = tie.calibration.stage;
+  check.stations = tie.Stations();
   check.adjustment = std::move(*adjusted);
-  check.adjustment.stage.height_above_mark_m = start.stage.height_above_mark_m;
+  check.adjustment.stage.height_above_mark_m = check.start.height_above_mark_m;
   check.tie_points = static_cast<int>(tie.points.size());
-  check.before = MeasureRigSeams(tie, start.stage, check.adjustment);
+  check.before = MeasureRigSeams(tie, check.start, check.adjustment);
   check.after = MeasureRigSeams(tie, check.adjustment.stage, check.adjustment);
+  if (stations.size() > 1)
+    for (size_t s = 0; s < stations.size(); ++s)
+      check.station_after.push_back(
+          MeasureRigSeams(tie, check.adjustment.stage, check.adjustment, static_cast<int>(s)));
   return check;
 }
 
@@ -47,15 +66,31 @@ nlohmann::json RigCheckJson(const RigCheck& check, bool used) {
                                            {"sigma", r.sigma[i]},
                                            {"change", after[i] - before[i]},
                                            {"held", r.sigma[i] == 0.0}};
-  return {{"used", used},
-          {"tie_points", check.tie_points},
-          {"observations", r.observations},
-          {"rejected", r.rejected},
-          {"rms_px", r.rms_px},
-          {"image_sigma_px", r.image_sigma_px},
-          {"seams", {{"before", SeamsJson(check.before)}, {"after", SeamsJson(check.after)}}},
-          {"parameters", parameters},
-          {"undetermined", r.undetermined}};
+  nlohmann::json j = {
+      {"used", used},
+      {"tie_points", check.tie_points},
+      {"observations", r.observations},
+      {"rejected", r.rejected},
+      {"rms_px", r.rms_px},
+      {"image_sigma_px", r.image_sigma_px},
+      {"seams", {{"before", SeamsJson(check.before)}, {"after", SeamsJson(check.after)}}},
+      {"parameters", parameters},
+      {"undetermined", r.undetermined}};
+  if (!check.station_after.empty()) {
+    nlohmann::json stations = nlohmann::json::array();
+    for (size_t k = 0; k < check.station_after.size(); ++k) {
+      const Eigen::Vector2d start = check.stations[k].levelling_deg;
+      const Eigen::Vector2d value = r.levelling_deg[k], sigma = r.levelling_sigma_deg[k];
+      stations.push_back(
+          {{"levelling_x_deg",
+            {{"value", value.x()}, {"sigma", sigma.x()}, {"change", value.x() - start.x()}}},
+           {"levelling_y_deg",
+            {{"value", value.y()}, {"sigma", sigma.y()}, {"change", value.y() - start.y()}}},
+           {"seams_after", SeamsJson(check.station_after[k])}});
+    }
+    j["stations"] = stations;
+  }
+  return j;
 }
 
 void MovePairPoints(const Calibration& from, const Calibration& to, MatchedPair* pair) {

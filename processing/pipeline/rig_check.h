@@ -21,9 +21,12 @@
 namespace ts {
 
 struct RigCheck {
-  StageKinematics start;  // the calibration's stage with the station's levelling and height
+  StageKinematics start;  // the calibration's stage with the (first) station's levelling and height
+  std::vector<RigStation> stations;  // each station's levelling at the start, and its reading
   RigAdjustment adjustment;
-  RigSeams before, after;
+  RigSeams before, after;  // of every station
+  // Several stations: each one's seams after the adjustment, in their order.
+  std::vector<RigSeams> station_after;
   int tie_points = 0;
   // The seams of the start close: at least this share of the tie points within 2 of their
   // predicted sigma (a 2D normal error gives 98 %; real tie points, with their heavier tail,
@@ -35,10 +38,22 @@ struct RigCheck {
 // The calibration's stage with the manifest's levelling and height above the mark.
 Calibration StationStart(const Calibration& calibration, const StationManifest& manifest);
 
-// pairs (left images needed) and matched in the same order, matched with `start`.
+// A station's tie points (rig_tie_points.h), its levelling at the start also the inclinometer's
+// reading. pairs (left images needed) and matched in the same order, matched with `start`.
+RigAdjustmentInput StationTiePoints(const Calibration& start,
+                                    const std::vector<StereoPairImages>& pairs,
+                                    const std::vector<MatchedPair>& matched,
+                                    const RigTiePointOptions& tie_options);
+
+// One station: its tie points, the adjustment and the seams.
 Result<RigCheck> CheckRig(const Calibration& start, const std::vector<StereoPairImages>& pairs,
                           const std::vector<MatchedPair>& matched,
                           const RigTiePointOptions& tie_options,
+                          const RigAdjustmentOptions& adjustment_options);
+
+// Several stations of one rig (StationTiePoints of each) in one adjustment: the stage shared,
+// each station's levelling its own.
+Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
                           const RigAdjustmentOptions& adjustment_options);
 
 // What report.json records: each parameter with its sigma and change, what was held, the

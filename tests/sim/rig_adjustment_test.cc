@@ -128,8 +128,8 @@ class RigAdjustmentSeeds : public ::testing::TestWithParam<int> {};
 TEST_P(RigAdjustmentSeeds, RecoversWhatThePanoramaDeterminesAndNamesTheRest) {
   const SimRig rig = MakeSimRig(GetParam(), 1.5);
   Panorama p = MakePanorama(rig, Poses(rig, true), GetParam());
-  p.input.inclinometer_deg =
-      Eigen::Vector2d(rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg);
+  p.input.stations = {{{rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg},
+                       Eigen::Vector2d(rig.inclinometer_x_deg, rig.inclinometer_y_deg)}};
   const Result<RigAdjustment> r = AdjustRig(p.input, {});
   ASSERT_TRUE(r.ok()) << r.error();
   for (const std::string& w : r->undetermined) std::printf("  %s\n", w.c_str());
@@ -168,8 +168,8 @@ TEST(RigAdjustment, SigmasAreHonestOverTenSeeds) {
   for (int seed = 11; seed <= 20; ++seed) {
     const SimRig rig = MakeSimRig(seed, 1.5);
     Panorama p = MakePanorama(rig, Poses(rig, true), seed);
-    p.input.inclinometer_deg =
-        Eigen::Vector2d(rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg);
+    p.input.stations = {{{rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg},
+                         Eigen::Vector2d(rig.inclinometer_x_deg, rig.inclinometer_y_deg)}};
     const Result<RigAdjustment> r = AdjustRig(p.input, {});
     ASSERT_TRUE(r.ok()) << r.error();
     const StageVector estimate = StageVectorOf(r->stage), truth = StageVectorOf(rig.truth.stage);
@@ -183,6 +183,70 @@ TEST(RigAdjustment, SigmasAreHonestOverTenSeeds) {
   std::printf("RMS of error/sigma over %d estimates: %.2f\n", n, rms);
   EXPECT_GT(rms, 0.7);
   EXPECT_LT(rms, 1.5);
+}
+
+// Three set-ups of one rig, each levelled its own way (0.15 deg, read by its inclinometer), one
+// adjustment: each station keeps its own levelling, every station's cameras come right with
+// the one shared stage, and the shared angles are known better than from one station.
+TEST(RigAdjustment, StationsOfOneRigShareItsStageAndKeepTheirOwnLevelling) {
+  const SimRig rig = MakeSimRig(6, 1.5);
+  std::mt19937_64 rng(6);
+  std::normal_distribution<double> levelling(0.0, 0.3), inclinometer(0.0, 0.02);
+  std::vector<SimRig> setups;
+  std::vector<Panorama> panoramas;
+  std::vector<RigAdjustmentInput> inputs;
+  for (int s = 0; s < 3; ++s) {
+    SimRig setup = rig;
+    setup.truth.stage.levelling_x_deg = levelling(rng);
+    setup.truth.stage.levelling_y_deg = levelling(rng);
+    setup.inclinometer_x_deg = setup.truth.stage.levelling_x_deg + inclinometer(rng);
+    setup.inclinometer_y_deg = setup.truth.stage.levelling_y_deg + inclinometer(rng);
+    setup.nominal.stage.levelling_x_deg = setup.inclinometer_x_deg;
+    setup.nominal.stage.levelling_y_deg = setup.inclinometer_y_deg;
+    Panorama p = MakePanorama(setup, Poses(setup, true), 60 + s);
+    const Eigen::Vector2d read(setup.inclinometer_x_deg, setup.inclinometer_y_deg);
+    p.input.stations = {{read, read}};
+    inputs.push_back(p.input);
+    panoramas.push_back(std::move(p));
+    setups.push_back(std::move(setup));
+  }
+  const Result<RigAdjustment> joined = AdjustRig(JoinStations(inputs), {});
+  ASSERT_TRUE(joined.ok()) << joined.error();
+  const Result<RigAdjustment> one = AdjustRig(inputs[0], {});
+  ASSERT_TRUE(one.ok()) << one.error();
+  for (const std::string& w : joined->undetermined) std::printf("  %s\n", w.c_str());
+  ASSERT_EQ(joined->levelling_deg.size(), 3u);
+  for (int s = 0; s < 3; ++s) {
+    const SimRig& setup = setups[s];
+    const Eigen::Vector2d truth(setup.truth.stage.levelling_x_deg,
+                                setup.truth.stage.levelling_y_deg);
+    std::printf("station %d: levelling %+.4f %+.4f (truth %+.4f %+.4f) +- %.4f\n", s + 1,
+                joined->levelling_deg[s].x(), joined->levelling_deg[s].y(), truth.x(), truth.y(),
+                joined->levelling_sigma_deg[s].x());
+    EXPECT_LT((joined->levelling_deg[s] - truth).norm(), 0.08);
+    EXPECT_GT(joined->levelling_sigma_deg[s].x(), 0.0);
+    const CameraErrors after = ErrorsOf(setup, panoramas[s], joined->stage);
+    EXPECT_LT(after.deg, 0.01) << "station " << s + 1;
+    EXPECT_LT(after.m, 0.002) << "station " << s + 1;
+  }
+  // Three stations' tie points: the shared angles' sigmas near 1/sqrt(3) of one station's.
+  for (int i : {7, 12, 13}) {
+    std::printf("%s: sigma %.5f joined, %.5f from one station\n", kStageParameterNames[i],
+                joined->sigma[i], one->sigma[i]);
+    EXPECT_LT(joined->sigma[i], 0.75 * one->sigma[i]) << kStageParameterNames[i];
+  }
+}
+
+// A tie point belongs to one station: one seen from two of them is refused.
+TEST(RigAdjustment, ATiePointSeenFromTwoStationsIsRefused) {
+  const SimRig rig = MakeSimRig(5, 1.5);
+  Panorama a = MakePanorama(rig, Poses(rig, false), 5);
+  RigAdjustmentInput joined = JoinStations({a.input, a.input});
+  for (RigTieObservation& t : joined.observations)
+    if (joined.poses[t.pose].station == 1) t.point -= static_cast<int>(a.input.points.size());
+  const Result<RigAdjustment> r = AdjustRig(joined, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("seen from two stations"), std::string::npos) << r.error();
 }
 
 // One row at one tilt shows only the pan axis's direction in the rig and the cameras' distance
@@ -252,8 +316,8 @@ TEST(RigTiePoints, RenderedViewsOfTheHillsStationGiveTheStage) {
       MatchPairsIntoL(start, Rectify(start.rig), pairs, PairMatchOptions::ForStation());
   const auto t2 = std::chrono::steady_clock::now();
   p.input = FindRigTiePoints(start, pairs, matched, {});
-  p.input.inclinometer_deg =
-      Eigen::Vector2d(rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg);
+  p.input.stations = {{{rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg},
+                       Eigen::Vector2d(rig.inclinometer_x_deg, rig.inclinometer_y_deg)}};
   const auto t3 = std::chrono::steady_clock::now();
   const Result<RigAdjustment> r = AdjustRig(p.input, {});
   ASSERT_TRUE(r.ok()) << r.error();
