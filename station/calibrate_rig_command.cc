@@ -39,9 +39,10 @@ RigAdjustmentInput StationTies(const std::string& station, const std::string& ca
     pairs.push_back(*std::move(images));
   }
   if (pairs.size() < 2) throw CommandError(station + ": fewer than two pairs: nothing to tie");
+  const Calibration& given = in->calibration;
   const std::vector<MatchedPair> matched =
-      MatchPairsIntoL(start, Rectify(start.rig), pairs, PairMatchOptions::ForStation());
-  return StationTiePoints(start, pairs, matched, {});
+      MatchPairsIntoL(given, Rectify(given.rig), pairs, PairMatchOptions::ForStation());
+  return StationTiePoints(FindRigTiePoints(given, pairs, matched, {}), start);
 }
 
 RigCheck CheckStations(const std::vector<std::string>& stations,

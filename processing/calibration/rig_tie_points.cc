@@ -3,6 +3,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <set>
 
 #include "processing/geometry/camera_model.h"
 
@@ -21,6 +22,20 @@ struct View {
   ImageGradients gradients;
   Eigen::Isometry3d camera_from_l;
 };
+
+}  // namespace
+
+// A pair of the panorama: its left view, and an even sample of its points (candidates_per_tie
+// times the tie points wanted): predicting every point of a pair into every pose would cost
+// more than the matching.
+struct RigTiePair {
+  double pan_deg = 0.0, tilt_deg = 0.0;
+  View view;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Matrix3d> covariances;
+};
+
+namespace {
 
 struct Candidate {
   Eigen::Vector2d centre;     // the template's centre in the pair's left image (integer)
@@ -90,83 +105,156 @@ std::optional<Eigen::Vector2d> Find(const View& from, const View& to, const Cand
   return r.position_px;
 }
 
-// Pair k's points found in pose j's left image, added to `out` (points and observations indexed
-// within it). Predicting every point of a pair into every pose would cost more than the
-// matching: an even sample of candidates_per_tie times the tie points wanted is predicted.
-void TiePointsBetween(const Calibration& calibration, const CameraModel& left,
-                      const CameraModel& right, const StereoPairImages& pair,
-                      const MatchedPair& matched, const std::vector<View>& views, int k, int j,
-                      const RigTiePointOptions& o, RigAdjustmentInput* out) {
+RigTiePair MakeTiePair(const Calibration& calibration, const StereoPairImages& pair,
+                       const MatchedPair& matched, const RigTiePointOptions& o) {
   constexpr size_t kCandidatesPerTie = 10;
+  RigTiePair t;
+  t.pan_deg = pair.pan_deg;
+  t.tilt_deg = pair.tilt_deg;
+  t.view.image = AsFloat(pair.left);
+  t.view.gradients = ComputeGradients(t.view.image);
+  t.view.camera_from_l =
+      calibration.LFromCamera(Side::kLeft, pair.pan_deg, pair.tilt_deg).inverse();
   const size_t sample =
       std::max<size_t>(1, matched.cloud.size() / (kCandidatesPerTie * o.max_per_neighbour));
+  for (size_t i = 0; i < matched.cloud.size(); i += sample) {
+    t.points.push_back(matched.cloud[i].position_m);
+    t.covariances.push_back(matched.cloud[i].covariance_m2.cast<double>());
+  }
+  return t;
+}
+
+// Pair `from`'s points found in pair `to`'s left image: points and observations indexed within
+// `out`, the poses being 0 (from) and 1 (to).
+void TiePointsBetween(const Calibration& calibration, const CameraModel& left,
+                      const CameraModel& right, const RigTiePair& from, const RigTiePair& to,
+                      const RigTiePointOptions& o, RigAdjustmentInput* out) {
   std::vector<Candidate> candidates;
   std::vector<Eigen::Matrix3d> covariances;
-  for (size_t i = 0; i < matched.cloud.size(); i += sample) {
-    const CloudPoint& p = matched.cloud[i];
-    if (auto c = Predict(left, views[k], views[j], p.position_m); c && left.InImage(c->predicted)) {
+  for (size_t i = 0; i < from.points.size(); ++i)
+    if (auto c = Predict(left, from.view, to.view, from.points[i]);
+        c && left.InImage(c->predicted)) {
       candidates.push_back(*c);
-      covariances.push_back(p.covariance_m2.cast<double>());
+      covariances.push_back(from.covariances[i]);
     }
-  }
   if (static_cast<int>(candidates.size()) < o.min_candidates) return;
   const size_t step = std::max<size_t>(1, candidates.size() / o.max_per_neighbour);
   const Eigen::Isometry3d right_from_l =
-      calibration.LFromCamera(Side::kRight, pair.pan_deg, pair.tilt_deg).inverse();
+      calibration.LFromCamera(Side::kRight, from.pan_deg, from.tilt_deg).inverse();
   for (size_t i = 0; i < candidates.size(); i += step) {
     const Candidate& c = candidates[i];
-    const std::optional<Eigen::Vector2d> found = Find(views[k], views[j], c, o);
+    const std::optional<Eigen::Vector2d> found = Find(from.view, to.view, c, o);
     Eigen::Vector2d in_right;
     if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
     const int point = static_cast<int>(out->points.size());
     out->points.push_back(c.point);
     out->point_covariance_m2.push_back(covariances[i]);
-    out->observations.push_back({k, Side::kLeft, point, c.centre});
-    out->observations.push_back({k, Side::kRight, point, in_right, true});
-    out->observations.push_back({j, Side::kLeft, point, *found});
+    out->observations.push_back({0, Side::kLeft, point, c.centre});
+    out->observations.push_back({0, Side::kRight, point, in_right, true});
+    out->observations.push_back({1, Side::kLeft, point, *found});
   }
 }
 
 }  // namespace
 
+RigTieFinder::RigTieFinder(const Calibration& calibration, const RigTiePointOptions& options)
+    : calibration_(calibration), options_(options) {}
+
+RigTieFinder::~RigTieFinder() = default;
+
+bool RigTieFinder::Has(int index, double pan_deg, double tilt_deg) const {
+  const auto p = pairs_.find(index);
+  return p != pairs_.end() && p->second->pan_deg == pan_deg && p->second->tilt_deg == tilt_deg;
+}
+
+void RigTieFinder::Add(const std::vector<StereoPairImages>& pairs,
+                       const std::vector<MatchedPair>& matched) {
+  std::vector<std::shared_ptr<RigTiePair>> made(pairs.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(pairs.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i)
+      made[i] =
+          std::make_shared<RigTiePair>(MakeTiePair(calibration_, pairs[i], matched[i], options_));
+  });
+  std::set<int> added;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const int index = pairs[i].index;
+    pairs_[index] = made[i];
+    added.insert(index);
+    // A pair added again (captured again) replaces its tie points.
+    std::erase_if(blocks_,
+                  [&](const auto& b) { return b.first.first == index || b.first.second == index; });
+  }
+  std::vector<std::pair<int, int>> tasks;
+  for (const auto& [k, from] : pairs_)
+    for (const auto& [j, to] : pairs_)
+      if (k != j && (added.count(k) || added.count(j))) tasks.emplace_back(k, j);
+  std::vector<RigAdjustmentInput> found(tasks.size());
+  const CameraModel left(calibration_.rig.left), right(calibration_.rig.right);
+  cv::parallel_for_(cv::Range(0, static_cast<int>(tasks.size())), [&](const cv::Range& range) {
+    for (int t = range.start; t < range.end; ++t)
+      TiePointsBetween(calibration_, left, right, *pairs_.at(tasks[t].first),
+                       *pairs_.at(tasks[t].second), options_, &found[t]);
+  });
+  for (size_t t = 0; t < tasks.size(); ++t)
+    if (!found[t].points.empty()) blocks_[tasks[t]] = std::move(found[t]);
+}
+
+RigAdjustmentInput RigTieFinder::Input(const std::vector<int>& order) const {
+  RigAdjustmentInput input;
+  input.calibration = calibration_;
+  input.stations = input.Stations();  // one, levelled as the calibration
+  for (int index : order) {
+    const RigTiePair& p = *pairs_.at(index);
+    input.poses.push_back({p.pan_deg, p.tilt_deg});
+  }
+  for (size_t k = 0; k < order.size(); ++k)
+    for (size_t j = 0; j < order.size(); ++j) {
+      const auto block = blocks_.find({order[k], order[j]});
+      if (block == blocks_.end()) continue;
+      const RigAdjustmentInput& f = block->second;
+      const int offset = static_cast<int>(input.points.size());
+      input.points.insert(input.points.end(), f.points.begin(), f.points.end());
+      input.point_covariance_m2.insert(input.point_covariance_m2.end(),
+                                       f.point_covariance_m2.begin(), f.point_covariance_m2.end());
+      for (RigTieObservation t : f.observations) {
+        t.point += offset;
+        t.pose = static_cast<int>(t.pose == 0 ? k : j);
+        input.observations.push_back(t);
+      }
+    }
+  return input;
+}
+
 RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
                                     const std::vector<StereoPairImages>& pairs,
                                     const std::vector<MatchedPair>& matched,
                                     const RigTiePointOptions& o) {
-  RigAdjustmentInput input;
-  input.calibration = calibration;
-  input.stations = input.Stations();  // one, levelled as the calibration
-  std::vector<View> views;
-  for (const StereoPairImages& pair : pairs) {
-    input.poses.push_back({pair.pan_deg, pair.tilt_deg});
-    View v;
-    v.image = AsFloat(pair.left);
-    v.gradients = ComputeGradients(v.image);
-    v.camera_from_l = calibration.LFromCamera(Side::kLeft, pair.pan_deg, pair.tilt_deg).inverse();
-    views.push_back(std::move(v));
+  RigTieFinder finder(calibration, o);
+  finder.Add(pairs, matched);
+  std::vector<int> order;
+  for (const StereoPairImages& p : pairs) order.push_back(p.index);
+  return finder.Input(order);
+}
+
+RigAdjustmentInput MoveTiePoints(const RigAdjustmentInput& in, const Calibration& to) {
+  RigAdjustmentInput moved = in;
+  moved.calibration = to;
+  moved.stations = {};
+  moved.stations = moved.Stations();
+  std::vector<char> done(in.points.size(), 0);
+  for (const RigTieObservation& t : in.observations) {
+    if (done[t.point]) continue;
+    done[t.point] = 1;
+    const RigPose& pose = in.poses[t.pose];
+    const Eigen::Isometry3d move =
+        to.stage.LFromS(pose.pan_deg, pose.tilt_deg) *
+        in.calibration.stage.LFromS(pose.pan_deg, pose.tilt_deg).inverse();
+    moved.points[t.point] = move * in.points[t.point];
+    if (static_cast<size_t>(t.point) < in.point_covariance_m2.size())
+      moved.point_covariance_m2[t.point] =
+          move.linear() * in.point_covariance_m2[t.point] * move.linear().transpose();
   }
-  const CameraModel left(calibration.rig.left), right(calibration.rig.right);
-  // Each pair's tie points with every other pose, found in parallel (one pair per task) and
-  // gathered in pair order, so that the result does not depend on the scheduling.
-  std::vector<RigAdjustmentInput> found(pairs.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(pairs.size())), [&](const cv::Range& range) {
-    for (int k = range.start; k < range.end; ++k)
-      for (size_t j = 0; j < pairs.size(); ++j)
-        if (static_cast<int>(j) != k)
-          TiePointsBetween(calibration, left, right, pairs[k], matched[k], views, k,
-                           static_cast<int>(j), o, &found[k]);
-  });
-  for (const RigAdjustmentInput& f : found) {
-    const int offset = static_cast<int>(input.points.size());
-    input.points.insert(input.points.end(), f.points.begin(), f.points.end());
-    input.point_covariance_m2.insert(input.point_covariance_m2.end(), f.point_covariance_m2.begin(),
-                                     f.point_covariance_m2.end());
-    for (RigTieObservation t : f.observations) {
-      t.point += offset;
-      input.observations.push_back(t);
-    }
-  }
-  return input;
+  return moved;
 }
 
 }  // namespace ts

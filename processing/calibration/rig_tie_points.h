@@ -7,6 +7,8 @@
 // cross-correlation within search_px of the prediction (the stage may be off by a few tenths of
 // a degree), and refined by least-squares matching. Each tie point is then observed in the
 // pair's two images (the right one through the held stereo calibration) and the neighbour's.
+#include <map>
+#include <memory>
 #include <vector>
 
 #include "core/options.h"
@@ -35,10 +37,41 @@ struct RigTiePointOptions {
   bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 };
 
-// pairs and matched in the same order (MatchPairsIntoL's result for these pairs).
+struct RigTiePair;
+
+// The tie points of a panorama found as its pairs come (the incremental station): a pair's
+// points sought in every pair added before it, and theirs in it. Each pair-to-pair search
+// depends on those two pairs only, so the tie points are the same, to the bit, however the
+// pairs were added. Not thread-safe: one owner at a time.
+class RigTieFinder {
+ public:
+  RigTieFinder(const Calibration& calibration, const RigTiePointOptions& options);
+  ~RigTieFinder();
+  RigTieFinder(const RigTieFinder&) = delete;
+  RigTieFinder& operator=(const RigTieFinder&) = delete;
+  // Pairs (their left images) and their points matched with the calibration, in the same
+  // order; the searches run in parallel. A pair added again (captured again) is replaced.
+  void Add(const std::vector<StereoPairImages>& pairs, const std::vector<MatchedPair>& matched);
+  // Added at this read-back.
+  bool Has(int index, double pan_deg, double tilt_deg) const;
+  // The tie points among the pairs of these indices (all added), posed in this order.
+  RigAdjustmentInput Input(const std::vector<int>& order) const;
+
+ private:
+  const Calibration calibration_;
+  const RigTiePointOptions options_;
+  std::map<int, std::shared_ptr<const RigTiePair>> pairs_;    // by pair index
+  std::map<std::pair<int, int>, RigAdjustmentInput> blocks_;  // (from, to): poses 0 and 1
+};
+
+// All at once. pairs and matched in the same order (MatchPairsIntoL's result for these pairs).
 RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
                                     const std::vector<StereoPairImages>& pairs,
                                     const std::vector<MatchedPair>& matched,
                                     const RigTiePointOptions& options);
+
+// The tie points with `to`'s stage in place of in.calibration's: each point moved with the
+// pose of the pair that intersected it (as MovePairPoints moves a pair's points).
+RigAdjustmentInput MoveTiePoints(const RigAdjustmentInput& in, const Calibration& to);
 
 }  // namespace ts

@@ -11,20 +11,10 @@ Calibration StationStart(const Calibration& calibration, const StationManifest& 
   return start;
 }
 
-RigAdjustmentInput StationTiePoints(const Calibration& start,
-                                    const std::vector<StereoPairImages>& pairs,
-                                    const std::vector<MatchedPair>& matched,
-                                    const RigTiePointOptions& tie_options) {
-  RigAdjustmentInput tie = FindRigTiePoints(start, pairs, matched, tie_options);
+RigAdjustmentInput StationTiePoints(const RigAdjustmentInput& found, const Calibration& start) {
+  RigAdjustmentInput tie = MoveTiePoints(found, start);
   tie.stations[0].inclinometer_deg = tie.stations[0].levelling_deg;
   return tie;
-}
-
-Result<RigCheck> CheckRig(const Calibration& start, const std::vector<StereoPairImages>& pairs,
-                          const std::vector<MatchedPair>& matched,
-                          const RigTiePointOptions& tie_options,
-                          const RigAdjustmentOptions& adjustment_options) {
-  return CheckRig({StationTiePoints(start, pairs, matched, tie_options)}, adjustment_options);
 }
 
 Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,

@@ -38,21 +38,12 @@ struct RigCheck {
 // The calibration's stage with the manifest's levelling and height above the mark.
 Calibration StationStart(const Calibration& calibration, const StationManifest& manifest);
 
-// A station's tie points (rig_tie_points.h), its levelling at the start also the inclinometer's
-// reading. pairs (left images needed) and matched in the same order, matched with `start`.
-RigAdjustmentInput StationTiePoints(const Calibration& start,
-                                    const std::vector<StereoPairImages>& pairs,
-                                    const std::vector<MatchedPair>& matched,
-                                    const RigTiePointOptions& tie_options);
+// A station's tie points (rig_tie_points.h, found with the calibration its pairs were matched
+// with) moved to `start`, whose levelling is also the inclinometer's reading.
+RigAdjustmentInput StationTiePoints(const RigAdjustmentInput& found, const Calibration& start);
 
-// One station: its tie points, the adjustment and the seams.
-Result<RigCheck> CheckRig(const Calibration& start, const std::vector<StereoPairImages>& pairs,
-                          const std::vector<MatchedPair>& matched,
-                          const RigTiePointOptions& tie_options,
-                          const RigAdjustmentOptions& adjustment_options);
-
-// Several stations of one rig (StationTiePoints of each) in one adjustment: the stage shared,
-// each station's levelling its own.
+// One or more stations of one rig (StationTiePoints of each) in one adjustment: the stage
+// shared, each station's levelling its own; the seams before and after.
 Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
                           const RigAdjustmentOptions& adjustment_options);
 

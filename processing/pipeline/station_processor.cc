@@ -91,6 +91,7 @@ void StationProcessor::Work() {
         rectification = std::make_unique<Rectification>(Rectify(inputs->calibration.rig));
         std::lock_guard relock(mutex_);
         panorama_ = std::make_unique<PanoramaBuilder>(inputs->calibration, options_.panorama);
+        tie_finder_ = std::make_unique<RigTieFinder>(inputs->calibration, options_.rig_ties);
       }
     }
     std::optional<MatchedPair> matched;
@@ -100,6 +101,8 @@ void StationProcessor::Work() {
       try {
         matched = MatchPairIntoL(inputs->calibration, *rectification, images, options_.matching);
         panorama_->Add({images});  // only this thread adds while it runs
+        tie_finder_->Add({{images.index, images.pan_deg, images.tilt_deg, images.left, {}}},
+                         {*matched});
       } catch (const std::exception&) {
         matched.reset();
       }
@@ -140,6 +143,7 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
     if (worker_calibration_sha256_ != in.calibration_sha256 || !panorama_) {
       matched_.clear();
       panorama_ = std::make_unique<PanoramaBuilder>(in.calibration, options_.panorama);
+      tie_finder_ = std::make_unique<RigTieFinder>(in.calibration, options_.rig_ties);
     }
   }
   const std::vector<PairRecord> records = InPairOrder(in.manifest.pairs);
@@ -253,14 +257,22 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   }
   const Result<std::vector<StereoPairImages>> images = LeftImages(*in, records);
   if (!images) return s->message = images.error(), false;
-  const Calibration start = StationStart(in->calibration, in->manifest);
+  // Tie points of the pairs the worker did not tie as they came (all of them for a finished
+  // station), then all of them moved to the station's levelling.
+  std::vector<StereoPairImages> untied;
   std::vector<MatchedPair> matched;
-  for (const PairRecord& p : records) {
+  std::vector<int> order;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const PairRecord& p = records[i];
+    order.push_back(p.index);
+    if (tie_finder_->Has(p.index, p.readback.pan_deg, p.readback.tilt_deg)) continue;
+    untied.push_back((*images)[i]);
     matched.push_back(matched_.at(p.index));
-    MovePairPoints(in->calibration, start, &matched.back());
   }
+  if (!untied.empty()) tie_finder_->Add(untied, matched);
+  const Calibration start = StationStart(in->calibration, in->manifest);
   const Result<RigCheck> check =
-      CheckRig(start, *images, matched, options_.rig_ties, options_.rig_adjustment);
+      CheckRig({StationTiePoints(tie_finder_->Input(order), start)}, options_.rig_adjustment);
   if (!check) {
     s->warnings.push_back("rig not checked: " + check.error());
     return true;
@@ -269,6 +281,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   w->rig_check = RigCheckJson(*check, used);
   w->seams_image = RenderSeamsImage(check->before, check->after);
   s->counts = {{"rig_tie_points", check->tie_points},
+               {"pairs_tied_during_capture", records.size() - untied.size()},
                {"seams_within_2_sigma", check->before.within_2_sigma}};
   if (!used) {
     if (!check->SeamsClose())

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/result.h"
+#include "processing/calibration/rig_tie_points.h"
 #include "processing/pipeline/process_options.h"
 #include "processing/pipeline/station_steps.h"
 #include "processing/pipeline/step.h"
@@ -82,6 +83,7 @@ class StationProcessor {
   std::map<int, StereoPairImages>
       left_images_;  // as handed in or decoded (no right image), for the rig
   std::unique_ptr<PanoramaBuilder> panorama_;  // of the matched pairs
+  std::unique_ptr<RigTieFinder> tie_finder_;   // the matched pairs' tie points, for the rig
   std::string worker_calibration_sha256_;
   double worker_matching_s_ = 0.0;
   std::thread worker_;

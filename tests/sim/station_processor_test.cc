@@ -52,8 +52,12 @@ void ExpectSameRaster(const Raster& a, const Raster& b) {
   EXPECT_EQ(0, std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)));
 }
 
+// With the stage self-calibrated, so that the tie points found as the pairs came (and the
+// adjustment on them) are those of the batch to the bit as well.
 TEST_F(StationProcessorTest, PairsHandedInGiveTheProductsOfProcessToTheBit) {
-  const Result<ProcessResult> batch = ProcessStation(Copy("batch"), process_);
+  ProcessOptions options = process_;
+  options.self_calibrate_rig = true;
+  const Result<ProcessResult> batch = ProcessStation(Copy("batch"), options);
   ASSERT_TRUE(batch) << batch.error();
 
   const std::string dir = Copy("incremental");
@@ -62,7 +66,7 @@ TEST_F(StationProcessorTest, PairsHandedInGiveTheProductsOfProcessToTheBit) {
   StationInputs inputs;
   inputs.dir = dir;
   inputs.manifest = manifest;
-  StationProcessor processor(dir, process_);
+  StationProcessor processor(dir, options);
   std::vector<PairRecord> capture_order = manifest.pairs;  // as the capture committed them
   for (const PairRecord& p : capture_order) {
     const Result<StereoPairImages> images = LoadPairImages(inputs, p);
@@ -78,9 +82,13 @@ TEST_F(StationProcessorTest, PairsHandedInGiveTheProductsOfProcessToTheBit) {
   EXPECT_EQ(batch->cloud.size(), incremental->cloud.size());
   EXPECT_EQ(batch->point_class, incremental->point_class);
   EXPECT_EQ(batch->terrain_correction.total_mgal, incremental->terrain_correction.total_mgal);
+  EXPECT_EQ(incremental->summary.Find("rig")->counts["pairs_tied_during_capture"].get<int>(),
+            static_cast<int>(manifest.pairs.size()));
+  EXPECT_TRUE(incremental->report["rig"]["used"].get<bool>());
+  EXPECT_EQ(batch->report["rig"], incremental->report["rig"]);
   // The report says how to reproduce it.
   const nlohmann::json& r = incremental->report;
-  EXPECT_EQ(r["calibration"]["source"], process_.calibration_file);
+  EXPECT_EQ(r["calibration"]["source"], process_.calibration_file + " (stage self-calibrated)");
   EXPECT_EQ(r["calibration"]["sha256"].get<std::string>().size(), 64u);
   EXPECT_FALSE(r["software"]["version"].get<std::string>().empty());
   EXPECT_EQ(r["options"]["kriging"]["max_distance_m"].get<double>(), 5.5);
