@@ -268,7 +268,7 @@ void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, b
 Status Solve(bool robust, ceres::Problem* problem) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_SCHUR;
-  options.max_num_iterations = robust ? 10 : 100;
+  options.max_num_iterations = robust ? 4 : 100;
   // Without the robust loss the problem is nearly linear, and each round starts from the last
   // one's solution: Gauss-Newton steps (a wide trust region) converge in one or two iterations
   // where Levenberg-Marquardt's default damping takes five or six.
