@@ -31,7 +31,6 @@ struct CalibrateRigArgs {
 RigAdjustmentInput StationTies(const std::string& station, const std::string& calibration_file) {
   const Result<StationInputs> in = LoadStationInputs(station, calibration_file, "");
   if (!in) throw CommandError(in.error());
-  const Calibration start = StationStart(in->calibration, in->manifest);
   std::vector<StereoPairImages> pairs;
   for (const PairRecord& p : in->manifest.pairs) {
     Result<StereoPairImages> images = LoadPairImages(*in, p);
@@ -39,10 +38,10 @@ RigAdjustmentInput StationTies(const std::string& station, const std::string& ca
     pairs.push_back(*std::move(images));
   }
   if (pairs.size() < 2) throw CommandError(station + ": fewer than two pairs: nothing to tie");
-  const Calibration& given = in->calibration;
+  const Calibration& calibration = in->calibration;  // levelled as the station
   const std::vector<MatchedPair> matched =
-      MatchPairsIntoL(given, Rectify(given.rig), pairs, PairMatchOptions::ForStation());
-  return StationTiePoints(FindRigTiePoints(given, pairs, matched, {}), start);
+      MatchPairsIntoL(calibration, Rectify(calibration.rig), pairs, PairMatchOptions::ForStation());
+  return StationTiePoints(FindRigTiePoints(calibration, pairs, matched, {}));
 }
 
 RigCheck CheckStations(const std::vector<std::string>& stations,

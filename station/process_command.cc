@@ -173,6 +173,8 @@ void AddProcessCommands(CLI::App& app) {
   CLI::App* p = app.add_subcommand("process", "Turn a captured station into its DEM and products");
   p->add_option("station", process->station, "station directory")->required();
   AddDeclaredOption(p, "--calibration", process->options, "calibration_file");
+  AddDeclaredOption(p, "--set-up-from-calibration", process->options,
+                    "set_up_from_calibration_file");
   AddDeclaredOption(p, "--gcps", process->options, "gcp_file");
   AddDeclaredOption(p, "--self-calibrate-rig", process->options, "self_calibrate_rig");
   AddDeclaredOption(p, "--half-size-m", process->options, "dem_half_size_m");

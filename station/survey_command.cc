@@ -129,7 +129,8 @@ void RunSurvey(const SurveyArgs& args) {
   } else if (args.true_calibration) {
     rig.calibration = station->rig.truth;
     process.calibration_file = truth_dir + "/calibration.yaml";
-    calibration_used = "the simulator's true calibration";
+    process.set_up_from_calibration_file = true;  // the truth is this station's own
+    calibration_used = "the simulator's true calibration (and the station's true levelling)";
   }
   if (Status s = sim::WriteTruthDirectory(station->scene, station->rig, truth_dir); !s)
     throw CommandError(s.error());

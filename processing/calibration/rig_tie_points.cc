@@ -236,25 +236,4 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
   return finder.Input(order);
 }
 
-RigAdjustmentInput MoveTiePoints(const RigAdjustmentInput& in, const Calibration& to) {
-  RigAdjustmentInput moved = in;
-  moved.calibration = to;
-  moved.stations = {};
-  moved.stations = moved.Stations();
-  std::vector<char> done(in.points.size(), 0);
-  for (const RigTieObservation& t : in.observations) {
-    if (done[t.point]) continue;
-    done[t.point] = 1;
-    const RigPose& pose = in.poses[t.pose];
-    const Eigen::Isometry3d move =
-        to.stage.LFromS(pose.pan_deg, pose.tilt_deg) *
-        in.calibration.stage.LFromS(pose.pan_deg, pose.tilt_deg).inverse();
-    moved.points[t.point] = move * in.points[t.point];
-    if (static_cast<size_t>(t.point) < in.point_covariance_m2.size())
-      moved.point_covariance_m2[t.point] =
-          move.linear() * in.point_covariance_m2[t.point] * move.linear().transpose();
-  }
-  return moved;
-}
-
 }  // namespace ts

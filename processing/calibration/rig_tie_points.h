@@ -70,8 +70,4 @@ RigAdjustmentInput FindRigTiePoints(const Calibration& calibration,
                                     const std::vector<MatchedPair>& matched,
                                     const RigTiePointOptions& options);
 
-// The tie points with `to`'s stage in place of in.calibration's: each point moved with the
-// pose of the pair that intersected it (as MovePairPoints moves a pair's points).
-RigAdjustmentInput MoveTiePoints(const RigAdjustmentInput& in, const Calibration& to);
-
 }  // namespace ts

@@ -22,7 +22,9 @@
 namespace ts {
 
 struct ProcessOptions {
-  std::string calibration_file;   // empty: the calibration recorded in station.json
+  std::string calibration_file;  // empty: the calibration recorded in station.json
+  // The calibration file was written for this station: its levelling and height too.
+  bool set_up_from_calibration_file = false;
   std::string gcp_file;           // empty: the DEM stays in the station frame L
   double dem_half_size_m = 30.0;  // the DEM covers the square of 2 x this around the station
   double dem_cell_m = 1.0;
@@ -42,6 +44,9 @@ struct ProcessOptions {
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("calibration_file", self.calibration_file, {"calibration YAML (empty: station.json's)"});
+    v("set_up_from_calibration_file", self.set_up_from_calibration_file,
+      {"the calibration file was written for this station: take its levelling and height above "
+       "the mark too (else station.json's)"});
     v("gcp_file", self.gcp_file, {"ground control points YAML (empty: the station frame L)"});
     v("dem_half_size_m", self.dem_half_size_m, {"the DEM square's half side", "m", 5, 500});
     v("dem_cell_m", self.dem_cell_m, {"DEM cell size", "m", 0.1, 10});

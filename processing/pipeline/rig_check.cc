@@ -2,19 +2,10 @@
 
 namespace ts {
 
-Calibration StationStart(const Calibration& calibration, const StationManifest& manifest) {
-  Calibration start = calibration;
-  const StageKinematics& station = manifest.calibration.stage;
-  start.stage.levelling_x_deg = station.levelling_x_deg;
-  start.stage.levelling_y_deg = station.levelling_y_deg;
-  start.stage.height_above_mark_m = station.height_above_mark_m;
-  return start;
-}
-
-RigAdjustmentInput StationTiePoints(const RigAdjustmentInput& found, const Calibration& start) {
-  RigAdjustmentInput tie = MoveTiePoints(found, start);
-  tie.stations[0].inclinometer_deg = tie.stations[0].levelling_deg;
-  return tie;
+RigAdjustmentInput StationTiePoints(RigAdjustmentInput found) {
+  found.stations = found.Stations();
+  found.stations[0].inclinometer_deg = found.stations[0].levelling_deg;
+  return found;
 }
 
 Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,

@@ -6,8 +6,8 @@
 // its mount); with --self-calibrate-rig it goes on with the adjusted stage.
 //
 // The levelling and the height above the mark belong to the station, not to the rig: the
-// start takes them from the manifest (the inclinometer's reading at capture, which is also
-// the levelling's observation, and the height measured there).
+// start is levelled as the station (station_inputs.h), and the inclinometer's reading at
+// capture is also the levelling's observation.
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -35,12 +35,9 @@ struct RigCheck {
   bool SeamsClose() const { return before.within_2_sigma >= kClosedShare; }
 };
 
-// The calibration's stage with the manifest's levelling and height above the mark.
-Calibration StationStart(const Calibration& calibration, const StationManifest& manifest);
-
-// A station's tie points (rig_tie_points.h, found with the calibration its pairs were matched
-// with) moved to `start`, whose levelling is also the inclinometer's reading.
-RigAdjustmentInput StationTiePoints(const RigAdjustmentInput& found, const Calibration& start);
+// A station's tie points (rig_tie_points.h, found with the calibration levelled as the station:
+// station_inputs.h), its levelling also the inclinometer's reading.
+RigAdjustmentInput StationTiePoints(RigAdjustmentInput found);
 
 // One or more stations of one rig (StationTiePoints of each) in one adjustment: the stage
 // shared, each station's levelling its own; the seams before and after.

@@ -7,8 +7,18 @@
 
 namespace ts {
 
+Calibration StationStart(const Calibration& calibration, const StationManifest& manifest) {
+  Calibration start = calibration;
+  const StageKinematics& station = manifest.calibration.stage;
+  start.stage.levelling_x_deg = station.levelling_x_deg;
+  start.stage.levelling_y_deg = station.levelling_y_deg;
+  start.stage.height_above_mark_m = station.height_above_mark_m;
+  return start;
+}
+
 Result<StationInputs> LoadStationInputs(const std::string& dir, const std::string& calibration_file,
-                                        const std::string& gcp_file) {
+                                        const std::string& gcp_file,
+                                        bool set_up_from_calibration_file) {
   StationValidationOptions validation;
   validation.decode_images = false;  // LoadPairImages decodes and checks each image once
   Result<StationManifest> manifest = ValidateStation(dir, validation);
@@ -21,8 +31,9 @@ Result<StationInputs> LoadStationInputs(const std::string& dir, const std::strin
   if (!calibration_file.empty()) {
     Result<Calibration> c = LoadCalibrationYaml(calibration_file);
     if (!c) return Error{c.error()};
-    in.calibration = *c;
+    in.calibration = set_up_from_calibration_file ? *c : StationStart(*c, in.manifest);
     in.calibration_source = calibration_file;
+    if (!set_up_from_calibration_file) in.calibration_source += " (levelling and height: station)";
   }
   in.calibration_sha256 = Sha256Hex(CalibrationToYaml(in.calibration));
   if (!gcp_file.empty()) {

@@ -23,9 +23,19 @@ struct StationInputs {
 
 // The manifest checked against the files (checksums; images are decoded per pair later), the
 // calibration from calibration_file or else the manifest's, the GCPs if a file is given.
+//
+// The levelling and the height above the mark belong to the station, not to the rig: a
+// calibration file describes the rig (and carries the levelling of whichever station it was
+// made at), so they are taken from the manifest (the inclinometer's reading at capture, the
+// height measured there), unless set_up_from_calibration_file says the file was written for
+// this very station (the simulator's truth).
 Result<StationInputs> LoadStationInputs(const std::string& station_dir,
                                         const std::string& calibration_file,
-                                        const std::string& gcp_file);
+                                        const std::string& gcp_file,
+                                        bool set_up_from_calibration_file = false);
+
+// The calibration's rig with the manifest's levelling and height above the mark.
+Calibration StationStart(const Calibration& calibration, const StationManifest& manifest);
 
 // The decoded images of one committed pair, checked for size and pixel format.
 Result<StereoPairImages> LoadPairImages(const StationInputs& inputs, const PairRecord& pair);

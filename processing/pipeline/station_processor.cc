@@ -85,7 +85,8 @@ void StationProcessor::Work() {
     // A pair that cannot be matched here is matched again by Finish(), which says why.
     if (!inputs) {
       Result<StationInputs> loaded =
-          LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file);
+          LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file,
+                            options_.set_up_from_calibration_file);
       if (loaded) {
         inputs = std::move(*loaded);
         rectification = std::make_unique<Rectification>(Rectify(inputs->calibration.rig));
@@ -270,9 +271,8 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
     matched.push_back(matched_.at(p.index));
   }
   if (!untied.empty()) tie_finder_->Add(untied, matched);
-  const Calibration start = StationStart(in->calibration, in->manifest);
   const Result<RigCheck> check =
-      CheckRig({StationTiePoints(tie_finder_->Input(order), start)}, options_.rig_adjustment);
+      CheckRig({StationTiePoints(tie_finder_->Input(order))}, options_.rig_adjustment);
   if (!check) {
     s->warnings.push_back("rig not checked: " + check.error());
     return true;
@@ -296,7 +296,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   // Levelling about x and y alike in every direction from the station.
   const StageVector& sigma = check->adjustment.sigma;
   w->levelling_sigma_deg = std::sqrt(0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]));
-  Calibration refined = start;
+  Calibration refined = in->calibration;
   refined.stage = check->adjustment.stage;
   MoveToStage(refined, *images, in, w);
   return true;
@@ -310,8 +310,8 @@ Result<ProcessResult> StationProcessor::Finish() {
   std::optional<StationInputs> inputs;
   StationWork work;
   run.Run("load", [&](StepSummary* s) {
-    Result<StationInputs> loaded =
-        LoadStationInputs(dir_, options_.calibration_file, options_.gcp_file);
+    Result<StationInputs> loaded = LoadStationInputs(
+        dir_, options_.calibration_file, options_.gcp_file, options_.set_up_from_calibration_file);
     if (!loaded) return s->message = loaded.error(), false;
     inputs = std::move(*loaded);
     const StationManifest& m = inputs->manifest;

@@ -86,6 +86,7 @@ void SubsidenceEpoch(const char* scene, const sim::Subsidence& bowl, const Proce
   Render(options, dir / "station", dir / "truth");
   ProcessOptions process;
   process.calibration_file = dir / "truth/calibration.yaml";
+  process.set_up_from_calibration_file = true;
   const ProcessResult second = ProcessStation(dir / "station", process).value();
   const ChangeResult change = ComputeDemOfDifference({"epoch 1", first.dem, first.dem_std},
                                                      {"epoch 2", second.dem, second.dem_std})
@@ -180,9 +181,9 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   options.scene = t.scene;
   const auto station = Render(options, station_dir, truth_dir);
   // The real command, for its wall time and peak memory.
-  const std::string command = std::string(TS_TOPOSTATION_EXE) + " process " + station_dir +
-                              " --calibration " + truth_dir + "/calibration.yaml --json > " +
-                              (dir / "report.json");
+  const std::string command =
+      std::string(TS_TOPOSTATION_EXE) + " process " + station_dir + " --calibration " + truth_dir +
+      "/calibration.yaml --set-up-from-calibration --json > " + (dir / "report.json");
   if (std::system(command.c_str()) != 0) std::exit(1);
   const nlohmann::json report =
       nlohmann::json::parse(std::ifstream(station_dir + "/products/report.json"));
@@ -190,6 +191,7 @@ void SimulatedSurvey(const SceneTargets& t, bench::Table* table) {
   // The same processing in this process, to look at its points.
   ProcessOptions process;
   process.calibration_file = truth_dir + "/calibration.yaml";
+  process.set_up_from_calibration_file = true;
   const ProcessResult r = ProcessStation(station_dir, process).value();
   const Raster truth = ReadGeoTiff(truth_dir + "/dem.tif").value();
   const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();
@@ -304,6 +306,7 @@ void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
   const auto station = Render(options, dir / "station", dir / "truth");
   ProcessOptions process;
   process.calibration_file = dir / "truth/calibration.yaml";
+  process.set_up_from_calibration_file = true;
   const ProcessResult r = ProcessStation(dir / "station", process).value();
   const Raster truth = ReadGeoTiff(dir / "truth/dem.tif").value();
   const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();

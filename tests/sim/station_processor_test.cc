@@ -31,6 +31,7 @@ class StationProcessorTest : public ::testing::Test {
     render.plan.azimuths = 4;  // each test case renders anew (ctest): keep it small
     ASSERT_TRUE(sim::RenderStationDirectory(*station, render, *dir_ / "st", *dir_ / "truth").ok());
     process_.calibration_file = *dir_ / "truth/calibration.yaml";
+    process_.set_up_from_calibration_file = true;  // the truth is this station's own
   }
   static void TearDownTestSuite() { delete dir_; }
   // A copy of the rendered station without products, for one run.
@@ -188,7 +189,8 @@ TEST(StationProcessor, ABumpedRigIsSeenInTheSeamsAndSelfCalibrated) {
   const nlohmann::json& rig = self.report["rig"];
   EXPECT_TRUE(rig["used"].get<bool>());
   EXPECT_EQ(self.report["calibration"]["source"],
-            std::string(dir / "bumped.yaml") + " (stage self-calibrated)");
+            std::string(dir / "bumped.yaml") +
+                " (levelling and height: station) (stage self-calibrated)");
   EXPECT_GE(rig["seams"]["after"]["within_2_sigma"].get<double>(), RigCheck::kClosedShare);
   EXPECT_FALSE(Warns(self.report, "seams do not close"));
   // The bump is taken back. Tilt zero and the rig's omega turn the views about one axis: the
