@@ -73,7 +73,8 @@ struct Scene {
   bool ObjectCovers(double x_m, double y_m) const;
 };
 
-// Names of the built-in scenes: flat, hills, slope, rough, forest.
+// Names of the built-in scenes: flat, hills, slope, rough, forest, and the landforms
+// embankment, terraces, foot, ridge, badlands (scene_landforms.h).
 const std::vector<std::string>& BuiltinSceneNames();
 // A built-in scene; deterministic for (name, seed). Error for an unknown name.
 Result<Scene> MakeBuiltinScene(const std::string& name, uint64_t seed);

@@ -1,5 +1,6 @@
 // The built-in scenes. Each is a height function of (x, y) in metres plus, for `forest`,
-// trees and bushes; all randomness comes from the seed.
+// trees and bushes; all randomness comes from the seed. The landforms of issue 22 are in
+// scene_landforms.cc.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -7,6 +8,7 @@
 
 #include "sim/noise.h"
 #include "sim/scene.h"
+#include "sim/scene_landforms.h"
 
 namespace ts::sim {
 namespace {
@@ -111,7 +113,11 @@ void PlantGroves(Scene* scene, std::mt19937_64& rng, double cover) {
 }  // namespace
 
 const std::vector<std::string>& BuiltinSceneNames() {
-  static const std::vector<std::string> names = {"flat", "hills", "slope", "rough", "forest"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = {"flat", "hills", "slope", "rough", "forest"};
+    for (const std::string& landform : LandformSceneNames()) n.push_back(landform);
+    return n;
+  }();
   return names;
 }
 
@@ -158,7 +164,7 @@ Result<Scene> MakeBuiltinScene(const std::string& name, uint64_t seed) {
   } else if (name == "forest") {
     FillLattice(&scene, [&](double x, double y) { return 6.0 * Relief(s, x, y, 80.0, 5.0); });
     PlantGroves(&scene, rng, 0.22 + 0.1 * unit(rng));
-  } else {
+  } else if (!FillLandformScene(name, s, rng, &scene)) {
     std::string known;
     for (const std::string& n : BuiltinSceneNames()) known += (known.empty() ? "" : ", ") + n;
     return Error{"unknown scene '" + name + "' (built-in scenes: " + known + ")"};

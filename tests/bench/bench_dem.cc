@@ -19,12 +19,16 @@
 //  - with --seeds 2,3,...: hills and forest stations of other seeds (other sites of the same
 //    kind), processed the same way: DEM RMSE, coverage and object points removed, without
 //    targets (the issue's targets are for the scenes as the simulator builds them by default).
-//    They show how far what was tuned on one station carries to other sites.
+//    They show how far what was tuned on one station carries to other sites;
+//  - issue 22's landforms (embankment, terraces, foot, ridge, badlands), seed 1 or each of
+//    --seeds: DEM RMSE, the std's honesty, cells standing above a line of sight
+//    (sight_line_bound.h), the terrain correction's error against its sigma.
 #include <pcl/filters/extract_indices.h>
 #include <pcl/point_types.h>
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -34,10 +38,12 @@
 #include "processing/common/memory.h"
 #include "processing/dem/dem_evaluation.h"
 #include "processing/gravity/terrain_correction.h"
+#include "processing/io/station_manifest.h"
 #include "processing/pipeline/process_station.h"
 #include "sim/calibration_field.h"
 #include "sim/sim_station.h"
 #include "tests/bench/bench_table.h"
+#include "tests/bench/sight_line_bound.h"
 #include "tests/common/isprs_sample.h"
 #include "tests/common/temp_dir.h"
 
@@ -319,6 +325,47 @@ void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
         {s + "share of object points removed", CountObjectPoints(*station, r).Removed(), "", ""});
 }
 
+// Issue 22's landforms, each seed: what the DEM and its std claim where the ground hides
+// itself from the tripod, against the truth (the true calibration, as the scenes above).
+void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table* table) {
+  testing::TempDir dir;
+  sim::SimStationOptions options;
+  options.scene = scene;
+  options.seed = seed;
+  const auto station = Render(options, dir / "station", dir / "truth");
+  ProcessOptions process;
+  process.calibration_file = dir / "truth/calibration.yaml";
+  process.set_up_from_calibration_file = true;
+  const ProcessResult r = ProcessStation(dir / "station", process).value();
+  const Raster truth = ReadGeoTiff(dir / "truth/dem.tif").value();
+  const Eigen::Vector3d mark3 = station->rig.truth.stage.StationMarkInL();
+  const DemEvaluation e = EvaluateDem(r.dem, truth, mark3.head<2>(), &r.dem_std);
+  const StationManifest manifest = LoadStationManifest(dir / "station").value();
+  std::map<int, Eigen::Vector3d> camera;
+  for (const PairRecord& p : manifest.pairs)
+    camera[p.index] =
+        station->rig.truth.LFromCamera(Side::kLeft, p.readback.pan_deg, p.readback.tilt_deg)
+            .translation();
+  const bench::SightLineViolations v = bench::CheckSightLines(
+      r.dem, truth, r.cloud, [&](const CloudPoint& p) { return camera.at(p.pair); });
+  const double tc_true =
+      ComputeTerrainCorrection(truth.ResampledOnto(r.dem), nullptr, mark3, {}).total_mgal;
+  const double tc_ratio =
+      std::abs(r.terrain_correction.total_mgal - tc_true) / r.terrain_correction.sigma_mgal;
+  const std::string s = std::string(scene) + " s" + std::to_string(seed) + ": ";
+  char target[32];
+  std::snprintf(target, sizeof target, "<= %.2f", max_rmse_m);
+  table->Add({s + "DEM RMSE", e.rmse_m, "m", target, e.rmse_m <= max_rmse_m});
+  table->Add({s + "coverage within 30 m", e.coverage_30m, "", ""});
+  table->Add({s + "DEM RMS of error / std", e.std_ratio_rms, "", "0.7-1.5",
+              e.std_ratio_rms >= 0.7 && e.std_ratio_rms <= 1.5});
+  table->Add({s + "DEM cells within 2 std", e.within_2std, "", ">= 0.90", e.within_2std >= 0.9});
+  table->Add({s + "cells above a line of sight by > 0.1 m", static_cast<double>(v.above), "", "0",
+              v.above == 0});
+  table->Add({s + "  the most above a line of sight", v.max_above_m, "m", ""});
+  table->Add({s + "terrain correction error / sigma", tc_ratio, "", "<= 2.0", tc_ratio <= 2.0});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -330,7 +377,17 @@ int main(int argc, char** argv) {
         SceneTargets{"hills", 0.20, 0.01, Bowl(-11.5, 6.5, 5.0, 0.5)},
         SceneTargets{"slope", 0.35, 0.03}, SceneTargets{"forest", 0.35, 0.03}})
     SimulatedSurvey(t, &table);
-  for (const uint64_t seed : bench::SeedsArgument(argc, argv))
+  std::vector<uint64_t> seeds = bench::SeedsArgument(argc, argv);
+  for (const uint64_t seed : seeds)
     for (const char* scene : {"hills", "forest"}) OtherSite(scene, seed, &table);
+  if (seeds.empty()) seeds.push_back(1);
+  for (const uint64_t seed : seeds)
+    for (const auto& [scene, max_rmse_m] :
+         std::vector<std::pair<const char*, double>>{{"embankment", 0.25},
+                                                     {"terraces", 0.25},
+                                                     {"foot", 0.5},
+                                                     {"ridge", 0.5},
+                                                     {"badlands", 0.5}})
+      Landform(scene, max_rmse_m, seed, &table);
   return table.Finish(argc, argv);
 }
