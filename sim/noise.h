@@ -78,4 +78,16 @@ inline double Fractal2(uint64_t seed, double x, double y, double footprint_m,
   return Fractal2(seed, x, y, footprint_m, FractalPlan(o));
 }
 
+// Smooth fractal relief of a scene between two wavelengths (all octaves, no footprint cut).
+inline double Relief(uint64_t seed, double x, double y, double longest_m, double shortest_m,
+                     double gain = 0.5) {
+  return Fractal2(seed, x, y, 1e-9, {longest_m, shortest_m, gain});
+}
+
+// 0 below 0, 1 above 1, a cubic with level ends between: a ramp without kinks.
+inline double Smoothstep(double t) {
+  t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+  return t * t * (3.0 - 2.0 * t);
+}
+
 }  // namespace ts::sim

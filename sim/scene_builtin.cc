@@ -15,17 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Smooth fractal relief between two wavelengths (all octaves, no footprint cut).
-double Relief(uint64_t seed, double x, double y, double longest_m, double shortest_m,
-              double gain = 0.5) {
-  return Fractal2(seed, x, y, 1e-9, {longest_m, shortest_m, gain});
-}
-
-double Smoothstep(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
-}
-
 Lighting RandomSun(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> azimuth(0.0, 2.0 * kPi), elevation(35.0, 60.0);
   const double az = azimuth(rng), el = elevation(rng) * kPi / 180.0;

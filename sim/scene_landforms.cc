@@ -16,16 +16,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double Relief(uint64_t seed, double x, double y, double longest_m, double shortest_m,
-              double gain = 0.5) {
-  return Fractal2(seed, x, y, 1e-9, {longest_m, shortest_m, gain});
-}
-
-double Smoothstep(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
-}
-
 double Uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);
 }

@@ -259,7 +259,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   const Result<std::vector<StereoPairImages>> images = LeftImages(*in, records);
   if (!images) return s->message = images.error(), false;
   // Tie points of the pairs the worker did not tie as they came (all of them for a finished
-  // station), then all of them moved to the station's levelling.
+  // station); the calibration is levelled as the station already (station_inputs.h).
   std::vector<StereoPairImages> untied;
   std::vector<MatchedPair> matched;
   std::vector<int> order;

@@ -303,20 +303,36 @@ void IsprsSamples(bench::Table* table) {
   table->Add({"ISPRS mean total error, PCL PMF (tutorial)", pcl, "", ""});
 }
 
-// hills and forest at another seed: informational rows.
-void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
-  testing::TempDir dir;
+// A station of a scene and seed rendered into dir/station (truth in dir/truth) and processed
+// there with the true calibration, its DEM evaluated against the true bare earth.
+struct TrueSite {
+  std::shared_ptr<const sim::SimStation> station;
+  ProcessResult result;
+  Raster truth;
+  DemEvaluation evaluation;
+};
+
+TrueSite ProcessTrueSite(const char* scene, uint64_t seed, const testing::TempDir& dir) {
   sim::SimStationOptions options;
   options.scene = scene;
   options.seed = seed;
-  const auto station = Render(options, dir / "station", dir / "truth");
+  TrueSite site;
+  site.station = Render(options, dir / "station", dir / "truth");
   ProcessOptions process;
   process.calibration_file = dir / "truth/calibration.yaml";
   process.set_up_from_calibration_file = true;
-  const ProcessResult r = ProcessStation(dir / "station", process).value();
-  const Raster truth = ReadGeoTiff(dir / "truth/dem.tif").value();
-  const Eigen::Vector2d mark = station->rig.truth.stage.StationMarkInL().head<2>();
-  const DemEvaluation e = EvaluateDem(r.dem, truth, mark, &r.dem_std);
+  site.result = ProcessStation(dir / "station", process).value();
+  site.truth = ReadGeoTiff(dir / "truth/dem.tif").value();
+  const Eigen::Vector2d mark = site.station->rig.truth.stage.StationMarkInL().head<2>();
+  site.evaluation = EvaluateDem(site.result.dem, site.truth, mark, &site.result.dem_std);
+  return site;
+}
+
+// hills and forest at another seed: informational rows.
+void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
+  testing::TempDir dir;
+  const TrueSite site = ProcessTrueSite(scene, seed, dir);
+  const auto& [station, r, truth, e] = site;
   const std::string s = std::string(scene) + " seed " + std::to_string(seed) + ": ";
   table->Add({s + "DEM RMSE", e.rmse_m, "m", ""});
   table->Add({s + "coverage within 30 m", e.coverage_30m, "", ""});
@@ -329,17 +345,9 @@ void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
 // itself from the tripod, against the truth (the true calibration, as the scenes above).
 void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table* table) {
   testing::TempDir dir;
-  sim::SimStationOptions options;
-  options.scene = scene;
-  options.seed = seed;
-  const auto station = Render(options, dir / "station", dir / "truth");
-  ProcessOptions process;
-  process.calibration_file = dir / "truth/calibration.yaml";
-  process.set_up_from_calibration_file = true;
-  const ProcessResult r = ProcessStation(dir / "station", process).value();
-  const Raster truth = ReadGeoTiff(dir / "truth/dem.tif").value();
+  const TrueSite site = ProcessTrueSite(scene, seed, dir);
+  const auto& [station, r, truth, e] = site;
   const Eigen::Vector3d mark3 = station->rig.truth.stage.StationMarkInL();
-  const DemEvaluation e = EvaluateDem(r.dem, truth, mark3.head<2>(), &r.dem_std);
   const StationManifest manifest = LoadStationManifest(dir / "station").value();
   std::map<int, Eigen::Vector3d> camera;
   for (const PairRecord& p : manifest.pairs)
