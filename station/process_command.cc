@@ -127,6 +127,18 @@ double ProcessedPanZeroDeg(const std::string& station) {
   return pan_zero->get<double>();
 }
 
+// The station's own terrain correction and its sigma (products/terrain_correction.json): every
+// cell of the square, also those the DEM has no value for.
+std::pair<double, double> StationTerrainCorrection(const std::string& station) {
+  const std::string file = station + "/products/terrain_correction.json";
+  std::ifstream in(file);
+  const nlohmann::json tc = nlohmann::json::parse(in, nullptr, false);
+  for (const char* field : {"terrain_correction_mgal", "sigma_mgal"})
+    if (!tc.is_object() || !tc.contains(field) || !tc[field].is_number())
+      throw CommandError(file + ": " + field + ": missing (process the station again)");
+  return {tc["terrain_correction_mgal"].get<double>(), tc["sigma_mgal"].get<double>()};
+}
+
 nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& truth_dir) {
   const DemInput in = LoadDemInput(station);
   const Raster& dem = in.dem;
@@ -156,13 +168,13 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   // same grid, both at the true mark.
   const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
   const TerrainCorrectionOptions tc_options;
-  const TerrainCorrection ours = ComputeTerrainCorrection(dem, std_dev, mark, tc_options);
+  const auto [ours, sigma] = StationTerrainCorrection(station);
   const TerrainCorrection truth_tc =
       ComputeTerrainCorrection(truth_on_grid, nullptr, mark, tc_options);
-  j["terrain_correction_mgal"] = ours.total_mgal;
-  j["terrain_correction_sigma_mgal"] = ours.sigma_mgal;
+  j["terrain_correction_mgal"] = ours;
+  j["terrain_correction_sigma_mgal"] = sigma;
   j["terrain_correction_true_mgal"] = truth_tc.total_mgal;
-  j["terrain_correction_error_mgal"] = ours.total_mgal - truth_tc.total_mgal;
+  j["terrain_correction_error_mgal"] = ours - truth_tc.total_mgal;
   if (Status s = WriteFileAtomically(station + "/products/evaluation.json", j.dump(2) + "\n"); !s)
     throw CommandError(s.error());
   return j;

@@ -72,9 +72,12 @@ double RefinedColumn(double x0, double y0, double size, int depth, double fallba
 
 TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_std,
                                            const Eigen::Vector3d& mark,
-                                           const TerrainCorrectionOptions& o) {
+                                           const TerrainCorrectionOptions& o,
+                                           const std::vector<CellGround>* ground) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("terrain correction: " + why);
+  if (ground && ground->size() != dem.values.size())
+    throw std::invalid_argument("terrain correction: one ground kind per DEM cell");
   TerrainCorrection tc;
   const double ref = mark.z(), sensor_z = mark.z() + o.sensor_height_m;
   // Tie the surface to the mark: the DEM's misfit there, tapered over the refined zone.
@@ -92,7 +95,8 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
   };
   std::vector<double> ring_sum(kRings, 0.0);
   std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0);
-  double variance = 0.0, correlated = 0.0;
+  std::vector<double> ring_variance(kRings, 0.0), ring_unseen(kRings, 0.0);
+  double correlated = 0.0;
   const double half = 0.5 * dem.cell_m;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
@@ -103,7 +107,9 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       ++ring_cells[ring];
       const float h = dem.at(r, c);
       if (Raster::IsNoData(h)) continue;
-      ++ring_data[ring];
+      const CellGround kind =
+          ground ? (*ground)[static_cast<size_t>(r) * dem.cols + c] : CellGround::kSeen;
+      ring_data[ring] += kind != CellGround::kEstimated;
       double value = 0.0;
       const bool refine = d - half * M_SQRT2 < o.refine_radius_m;
       if (refine) {
@@ -124,12 +130,19 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
               (Column(cx - half, cx + half, cy - half, cy + half, h + eps, ref, sensor_z, o) -
                Column(cx - half, cx + half, cy - half, cy + half, h - eps, ref, sensor_z, o)) /
               (2 * eps);
-          variance += derivative * derivative * s * s;
+          if (kind == CellGround::kSeen)
+            ring_variance[ring] += derivative * derivative * s * s;
+          else
+            ring_unseen[ring] += std::abs(derivative) * s;
           correlated += std::abs(derivative) * s;
         }
       }
     }
-  tc.sigma_mgal = std::sqrt(variance);
+  // Unseen ground as one unknown over the whole square: its ring sums add linearly too.
+  double variance = 0.0;
+  for (int k = 0; k < kRings; ++k)
+    variance += ring_variance[k], tc.sigma_unseen_mgal += ring_unseen[k];
+  tc.sigma_mgal = std::sqrt(variance + tc.sigma_unseen_mgal * tc.sigma_unseen_mgal);
   tc.sigma_correlated_mgal = correlated;
   for (int k = 0; k < kRings; ++k) {
     RingContribution ring;
@@ -137,6 +150,8 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
     ring.outer_m = k + 1 < kRings ? kRingEdges[k + 1] : std::numeric_limits<double>::infinity();
     ring.mgal = ring_sum[k];
     ring.coverage = ring_cells[k] ? static_cast<double>(ring_data[k]) / ring_cells[k] : 0.0;
+    ring.sigma_unseen_mgal = ring_unseen[k];
+    ring.sigma_mgal = std::sqrt(ring_variance[k] + ring_unseen[k] * ring_unseen[k]);
     if (ring_cells[k] > 0 && ring.coverage < o.min_ring_coverage) {
       char text[160];
       std::snprintf(

@@ -18,6 +18,9 @@
 // the cell's kriging standard deviation, cells taken as independent (kriging errors of
 // neighbouring cells are correlated: the value is a lower bound; the fully correlated bound
 // sum |dTC/dh| sigma is reported beside it).
+// Cells whose ground nobody saw (given as such) are the exception: how hidden ground goes is one
+// unknown for all of them (the ground behind a dike is all lower, or all not), so their
+// contributions add linearly, and that sum adds to the independent sigma in quadrature.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -61,22 +64,31 @@ struct TerrainCorrectionOptions {
 struct RingContribution {
   double inner_m = 0.0, outer_m = 0.0;  // outer = infinity for "the rest of the DEM"
   double mgal = 0.0;
-  double coverage = 0.0;  // share of the ring's cells with data
+  double coverage = 0.0;           // share of the ring's cells with data
+  double sigma_mgal = 0.0;         // the ring's own sigma (its seen and unseen parts together)
+  double sigma_unseen_mgal = 0.0;  // of it, from ground nobody saw
 };
 
 struct TerrainCorrection {
   double total_mgal = 0.0;
-  double sigma_mgal = 0.0;                 // independent cells
-  double sigma_correlated_mgal = 0.0;      // fully correlated cells (upper bound)
+  double sigma_mgal = 0.0;                 // seen cells independent, unseen ones as one
+  double sigma_unseen_mgal = 0.0;          // of it, from ground nobody saw
+  double sigma_correlated_mgal = 0.0;      // every cell fully correlated (upper bound)
   std::vector<RingContribution> rings;     // 0-2, 2-10, 10-20, 20-30, 30-50 m, rest
   double quadrant_mgal[4] = {0, 0, 0, 0};  // NE, SE, SW, NW (x east, y north)
   double station_misfit_m = 0.0;           // DEM at the mark minus the mark's height (removed)
   std::vector<std::string> warnings;
 };
 
+// What is known of a cell's ground.
+enum class CellGround : uint8_t { kSeen = 0, kUnseen = 1, kEstimated = 2 };
+
 // station_mark: (x, y, z) of the mark in the DEM's frame. dem_std may be null (sigma 0).
+// ground: one per cell, or null (every cell with data seen); kEstimated cells have a height
+// that is not the DEM's (they count as without data in the rings' coverage).
 TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_std,
                                            const Eigen::Vector3d& station_mark,
-                                           const TerrainCorrectionOptions& options);
+                                           const TerrainCorrectionOptions& options,
+                                           const std::vector<CellGround>* ground = nullptr);
 
 }  // namespace ts

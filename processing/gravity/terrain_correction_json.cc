@@ -13,13 +13,17 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
                      {"outer_m", std::isinf(r.outer_m) ? nlohmann::json("end of DEM")
                                                        : nlohmann::json(r.outer_m)},
                      {"mgal", r.mgal},
-                     {"coverage", r.coverage}});
+                     {"coverage", r.coverage},
+                     {"sigma_mgal", r.sigma_mgal},
+                     {"sigma_unseen_mgal", r.sigma_unseen_mgal}});
   return {{"terrain_correction_mgal", tc.total_mgal},
           {"sigma_mgal", tc.sigma_mgal},
+          {"sigma_unseen_mgal", tc.sigma_unseen_mgal},
           {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
           {"sigma_method",
-           "linearisation: dTC/dh of each cell times its kriging std, cells independent; the "
-           "fully correlated sum is an upper bound"},
+           "linearisation: dTC/dh of each cell times its std; cells whose ground was seen "
+           "independent, cells nobody saw (bounded by the lines of sight and the steepest seen "
+           "slope) as one unknown, added linearly; the fully correlated sum is an upper bound"},
           {"rings", rings},
           {"quadrants_mgal",
            {{"NE", tc.quadrant_mgal[0]},

@@ -13,6 +13,8 @@
 #include "processing/cloud/height_blunder_filter.h"
 #include "processing/cloud/sight_line_objects.h"
 #include "processing/cloud/underside_patches.h"
+#include "processing/dem/free_space.h"
+#include "processing/dem/ground_room.h"
 #include "processing/dem/horizon_limit.h"
 #include "processing/dem/kriging.h"
 #include "processing/gravity/terrain_correction.h"
@@ -39,6 +41,8 @@ struct ProcessOptions {
   UndersidePatchOptions underside_patches;
   KrigingOptions kriging;
   HorizonLimitOptions horizon;
+  FreeSpaceOptions free_space;
+  GroundRoomOptions ground_room;
   PanoramaOptions panorama;
   TerrainCorrectionOptions terrain_correction;
   template <class Self, class V>
@@ -63,6 +67,8 @@ struct ProcessOptions {
     v.Group("underside_patches", self.underside_patches);
     v.Group("kriging", self.kriging);
     v.Group("horizon", self.horizon);
+    v.Group("free_space", self.free_space);
+    v.Group("ground_room", self.ground_room);
     v.Group("panorama", self.panorama);
     v.Group("terrain_correction", self.terrain_correction);
   }

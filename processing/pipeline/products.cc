@@ -62,6 +62,7 @@ bool WriteProducts(const ProcessOptions& o, const StationWork& w, StepSummary* s
   });
   Status written = WriteGeoTiff(w.kriged.dem, products + "/dem.tif");
   if (written) written = WriteGeoTiff(w.kriged.std, products + "/dem_std.tif");
+  if (written) written = WriteGeoTiff(w.ceilings.per_cell, products + "/dem_ceiling.tif");
   if (written)
     written = WriteFileAtomically(
         products + "/terrain_correction.json",

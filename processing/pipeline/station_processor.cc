@@ -25,6 +25,8 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"underside_patches", RemoveUndersidePatches},
     {"kriging", KrigeStationDem},
     {"horizon_limit", LimitDemToHorizon},
+    {"free_space", KeepBelowSightLines},
+    {"ground_room", AddGroundRoom},
     {"levelling_sigma", AddLevellingSigma},
     {"terrain_correction", CorrectTerrain},
     {"products", [](const ProcessOptions& o, StationWork* w,

@@ -8,6 +8,7 @@
 #include "processing/cloud/sight_line_objects.h"
 #include "processing/cloud/underside_patches.h"
 #include "processing/dem/dem_evaluation.h"
+#include "processing/dem/ground_room.h"
 #include "processing/dem/horizon_limit.h"
 
 namespace ts {
@@ -147,6 +148,53 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) 
   return true;
 }
 
+bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const StationInputs& in = *w->inputs;
+  // Every point kept (ground and objects: a line to a tree's crown passes over ground too),
+  // from the left camera of its pair.
+  std::vector<SightLine> lines;
+  lines.reserve(w->kept.size());
+  for (const int index : w->kept_index) {
+    const CloudPoint& p = w->cloud[index];
+    SightLine line{w->viewpoints.at(p.pair), p.position_m, 0.0};
+    const Eigen::Vector3d ray = (line.point - line.camera).normalized();
+    line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
+    if (in.georeference) {
+      line.camera = in.georeference->ToWorld(line.camera);
+      line.point = in.georeference->ToWorld(line.point);
+    }
+    lines.push_back(line);
+  }
+  w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space);
+  const FreeSpaceResult lowered = LowerBelowSightLines(w->ceilings, o.free_space, &w->kriged.dem);
+  s->counts = {{"sight_lines", lines.size()},
+               {"ceilings", w->ceilings.ceilings.size()},
+               {"cells_lowered", lowered.cells_lowered},
+               {"mean_lowering_m", lowered.mean_lowering_m},
+               {"max_lowering_m", lowered.max_lowering_m},
+               {"sweeps", lowered.sweeps}};
+  return true;
+}
+
+// The ground points and the station mark, a ground point known exactly (the tripod hides the
+// ground around it from the cameras; the terrain correction ties the surface to it).
+KrigingPoints GroundAndMark(const StationWork& w) {
+  KrigingPoints known = w.ground;
+  known.positions.push_back(w.mark_dem);
+  if (!known.height_variances_m2.empty()) known.height_variances_m2.push_back(0.0);
+  return known;
+}
+
+bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  const GroundRoomResult room =
+      WidenStdByGroundRoom(GroundAndMark(*w), w->kriged.dem, o.ground_room, &w->kriged.std);
+  s->counts = {{"seen_cells", room.seen_cells},
+               {"unseen_cells", room.unseen_cells},
+               {"median_unseen_room_m", room.median_unseen_widening_m},
+               {"median_seen_departure_m", room.median_seen_departure_m}};
+  return true;
+}
+
 bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
   const double sigma_rad = w->levelling_sigma_deg * M_PI / 180.0;
   s->counts = {{"levelling_sigma_deg", w->levelling_sigma_deg}};
@@ -164,8 +212,13 @@ bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
 }
 
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
-  w->terrain_correction =
-      ComputeTerrainCorrection(w->kriged.dem, &w->kriged.std, w->mark_dem, o.terrain_correction);
+  // Every cell of the square: where the DEM has no value, the ground's best estimate and room.
+  const GroundEstimate every_cell = EstimateEveryCell(
+      GroundAndMark(*w), w->kriged.dem, w->kriged.std, &w->ceilings.per_cell, o.ground_room);
+  std::vector<CellGround> kinds(every_cell.kind.size());
+  for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<CellGround>(every_cell.kind[i]);
+  w->terrain_correction = ComputeTerrainCorrection(every_cell.height, &every_cell.std, w->mark_dem,
+                                                   o.terrain_correction, &kinds);
   for (const std::string& warning : w->terrain_correction.warnings)
     s->warnings.push_back("terrain correction: " + warning);
   return true;

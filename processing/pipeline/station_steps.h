@@ -2,7 +2,8 @@
 // The station-wide steps of `process`, after every pair has been matched into L (DESIGN.md
 // "Processing pipeline"), each a function over the station's working state:
 //   FilterHeightBlunders -> FindObjectsAlongSightLines -> FilterGroundPoints ->
-//   RemoveUndersidePatches -> KrigeStationDem -> LimitDemToHorizon -> CorrectTerrain
+//   RemoveUndersidePatches -> KrigeStationDem -> LimitDemToHorizon -> KeepBelowSightLines ->
+//   WidenStdByGroundRoom -> AddLevellingSigma -> CorrectTerrain
 // A step fills its StepSummary (counts, warnings) and returns false with summary->message on
 // failure; processing code below may throw, which the StepRunner catches.
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "processing/cloud/point_cloud.h"
+#include "processing/dem/free_space.h"
 #include "processing/dem/kriging.h"
 #include "processing/gravity/terrain_correction.h"
 #include "processing/pipeline/process_options.h"
@@ -43,6 +45,7 @@ struct StationWork {
   Eigen::Vector2d station_xy = Eigen::Vector2d::Zero();  // the mark, in the DEM's frame
   Eigen::Vector3d mark_dem = Eigen::Vector3d::Zero();
   KrigingResult kriged;
+  SightLineCeilings ceilings;  // the lowest lines of sight over the DEM (products/dem_ceiling.tif)
   double coverage_30m = 0.0, coverage_square = 0.0;
   TerrainCorrection terrain_correction;
   nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams
@@ -58,6 +61,10 @@ bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s)
 bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s);
+// No DEM surface above a line of sight over it (free_space.h): every seen point's line.
+bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s);
+// The std widened by what the ground could do where kriging cannot know (ground_room.h).
+bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s);
 // The levelling's sigma tilts the whole DEM about the station: sigma r at distance r enters
 // each cell's std (the seams cannot see the levelling; the inclinometer can, to its sigma).
 bool AddLevellingSigma(const ProcessOptions& o, StationWork* w, StepSummary* s);

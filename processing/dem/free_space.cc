@@ -1,0 +1,147 @@
+#include "processing/dem/free_space.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+
+namespace ts {
+
+bool FreeSpaceOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
+
+namespace {
+
+// The lowest line per fine square of the DEM's extent, with where it passed.
+struct FineCeilings {
+  FineCeilings(const Raster& grid, int ratio)
+      : ratio(ratio),
+        cols(grid.cols * ratio),
+        rows(grid.rows * ratio),
+        cell_m(grid.cell_m / ratio),
+        min_x(grid.min_x_m),
+        max_y(grid.max_y_m),
+        lowest(static_cast<size_t>(cols) * rows) {}
+  void Add(double x, double y, double h) {
+    const int c = static_cast<int>(std::floor((x - min_x) / cell_m));
+    const int r = static_cast<int>(std::floor((max_y - y) / cell_m));
+    if (c < 0 || r < 0 || c >= cols || r >= rows) return;
+    SightLineCeilings::Ceiling& e = lowest[static_cast<size_t>(r) * cols + c];
+    if (h < e.height) e = {x, y, h};
+  }
+  void Merge(const FineCeilings& other) {
+    for (size_t i = 0; i < lowest.size(); ++i)
+      if (other.lowest[i].height < lowest[i].height) lowest[i] = other.lowest[i];
+  }
+  int ratio, cols, rows;
+  double cell_m, min_x, max_y;
+  std::vector<SightLineCeilings::Ceiling> lowest;  // height +inf: no line
+};
+
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
+void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double end_sigmas,
+             FineCeilings* fine) {
+  const Eigen::Vector3d d = line.point - line.camera;
+  const double run = d.head<2>().norm(), length = d.norm();
+  if (!(run > 0.0) || !std::isfinite(length)) return;
+  // The range's sigma, as a horizontal distance.
+  const double end_gap = std::max(end_gap_min_m, end_sigmas * line.range_sigma_m * run / length);
+  for (double s = 0.5 * step_m; s < run - end_gap; s += step_m) {
+    const Eigen::Vector3d q = line.camera + d * (s / run);
+    fine->Add(q.x(), q.y(), q.z());
+  }
+}
+
+}  // namespace
+
+SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
+                                        const FreeSpaceOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
+  const int ratio = std::max(1, static_cast<int>(std::lround(grid.cell_m / o.ceiling_cell_m)));
+  // Fixed chunks, merged in order: the same result on any number of threads.
+  constexpr int kChunks = 16;
+  std::vector<FineCeilings> chunks(kChunks, FineCeilings(grid, ratio));
+  for (auto& c : chunks)
+    std::fill(c.lowest.begin(), c.lowest.end(), SightLineCeilings::Ceiling{0, 0, kNone});
+  cv::parallel_for_(cv::Range(0, kChunks), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k)
+      for (size_t i = k; i < lines.size(); i += kChunks)
+        AddLine(lines[i], 0.5 * chunks[k].cell_m, grid.cell_m, o.end_sigmas, &chunks[k]);
+  });
+  for (int k = 1; k < kChunks; ++k) chunks[0].Merge(chunks[k]);
+  const FineCeilings& fine = chunks[0];
+  SightLineCeilings out;
+  out.per_cell = Raster::Make(grid.min_x_m, grid.max_y_m, grid.cell_m, grid.cols, grid.rows);
+  out.per_cell.crs_wkt = grid.crs_wkt;
+  for (int r = 0; r < fine.rows; ++r)
+    for (int c = 0; c < fine.cols; ++c) {
+      const SightLineCeilings::Ceiling& e = fine.lowest[static_cast<size_t>(r) * fine.cols + c];
+      if (e.height == kNone) continue;
+      out.ceilings.push_back(e);
+      float& cell = out.per_cell.at(r / ratio, c / ratio);
+      if (Raster::IsNoData(cell) || e.height < cell) cell = static_cast<float>(e.height);
+    }
+  return out;
+}
+
+FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const FreeSpaceOptions& o,
+                                     Raster* dem) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
+  FreeSpaceResult result;
+  if (!o.enabled) return result;
+  // Each ceiling as a half-space over the four cells of its bilinear interpolation.
+  struct Constraint {
+    size_t cell[4];
+    double weight[4];
+    double height, weight_norm2;
+  };
+  std::vector<Constraint> constraints;
+  for (const SightLineCeilings::Ceiling& e : ceilings.ceilings) {
+    const double fc = (e.x - dem->min_x_m) / dem->cell_m - 0.5;
+    const double fr = (dem->max_y_m - e.y) / dem->cell_m - 0.5;
+    const int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
+    if (c0 < 0 || r0 < 0 || c0 + 1 >= dem->cols || r0 + 1 >= dem->rows) continue;
+    const double tx = fc - c0, ty = fr - r0;
+    Constraint k{{}, {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, e.height, 0.0};
+    bool data = true;
+    for (int j = 0; j < 4; ++j) {
+      const int r = r0 + j / 2, c = c0 + j % 2;
+      k.cell[j] = static_cast<size_t>(r) * dem->cols + c;
+      data = data && !Raster::IsNoData(dem->values[k.cell[j]]);
+      k.weight_norm2 += k.weight[j] * k.weight[j];
+    }
+    if (data) constraints.push_back(k);
+  }
+  const std::vector<float> before = dem->values;
+  std::vector<double> z(dem->values.begin(), dem->values.end());
+  constexpr double kConverged = 1e-3;  // m
+  for (result.sweeps = 0; result.sweeps < o.max_sweeps; ++result.sweeps) {
+    double worst = 0.0;
+    for (const Constraint& k : constraints) {
+      double surface = 0.0;
+      for (int j = 0; j < 4; ++j) surface += k.weight[j] * z[k.cell[j]];
+      const double excess = surface - k.height;
+      if (excess <= o.tolerance_m) continue;
+      worst = std::max(worst, excess - o.tolerance_m);
+      for (int j = 0; j < 4; ++j) z[k.cell[j]] -= k.weight[j] * excess / k.weight_norm2;
+    }
+    if (worst < kConverged) break;
+  }
+  double lowering = 0.0;
+  for (size_t i = 0; i < z.size(); ++i) {
+    if (Raster::IsNoData(before[i])) continue;
+    dem->values[i] = static_cast<float>(z[i]);
+    const double d = before[i] - dem->values[i];
+    if (d <= kConverged) continue;
+    ++result.cells_lowered;
+    lowering += d;
+    result.max_lowering_m = std::max(result.max_lowering_m, d);
+  }
+  if (result.cells_lowered > 0) result.mean_lowering_m = lowering / result.cells_lowered;
+  return result;
+}
+
+}  // namespace ts

@@ -1,0 +1,80 @@
+#pragma once
+// What the lines of sight prove about the terrain (issue 22): every matched point was seen, so
+// the terrain between its camera and it lies below that line. No DEM surface may stand above a
+// line of sight that passed over it to farther ground: behind brows, dikes and trees alike,
+// with no rule about which side the data lie on.
+//
+// A line counts up to end_sigmas standard deviations of its point's range short of the point
+// (and at least a cell): its direction is known to a pixel, its length only to the
+// intersection's range sigma, so a point matched too far would otherwise cut into the ground
+// in front of it. Along each line, every half cell, the line's height is a ceiling at that
+// place; the lowest ceiling per ceiling_cell_m square is kept (with where it was).
+//
+// The DEM is the bilinear surface of its cell centres. Each ceiling constrains the four cells
+// around it: w'z <= h, w the bilinear weights. Cyclic projection onto these half-spaces
+// (each step the least change of z that meets one) lowers the DEM until it meets them all;
+// it only ever lowers, and cells the lines do not reach are untouched.
+//
+// Per cell, the lowest line over its square is also kept: the highest the ground of a cell
+// can be, which bounds the cells nobody saw (unseen_ground.h).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/options.h"
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct FreeSpaceOptions {
+  bool enabled = true;
+  double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
+  double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
+  double tolerance_m = 0.0;      // a surface this far above a line is left alone
+  int max_sweeps = 200;          // of the cyclic projection
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("enabled", self.enabled, {"keep the DEM below every line of sight over it", "", 0, 1});
+    v("end_sigmas", self.end_sigmas,
+      {"a line of sight stops this many range sigmas short of its point", "", 0, 10});
+    v("ceiling_cell_m", self.ceiling_cell_m,
+      {"the lowest line of sight per square this wide constrains the DEM", "m", 0.05, 10});
+    v("tolerance_m", self.tolerance_m,
+      {"a surface this far above a line of sight is left alone", "m", 0, 10});
+    v("max_sweeps", self.max_sweeps, {"sweeps of the projection onto the lines", "", 1, 10000});
+  }
+  bool Check(std::string* why) const;
+};
+
+// One seen point and the camera that saw it, in the DEM's frame.
+struct SightLine {
+  Eigen::Vector3d camera = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double range_sigma_m = 0.0;  // along the line
+};
+
+// The lowest lines of sight over the DEM's grid.
+struct SightLineCeilings {
+  struct Ceiling {
+    double x = 0.0, y = 0.0, height = 0.0;
+  };
+  std::vector<Ceiling> ceilings;  // one per ceiling_cell_m square a line passed over
+  Raster per_cell;                // the lowest line over each DEM cell's square (nodata: none)
+};
+
+SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
+                                        const FreeSpaceOptions& options);
+
+struct FreeSpaceResult {
+  int cells_lowered = 0;
+  double max_lowering_m = 0.0;
+  double mean_lowering_m = 0.0;
+  int sweeps = 0;
+};
+
+// Lowers `dem` (nodata cells stay) until its bilinear surface is below every ceiling whose
+// four cells have data.
+FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings,
+                                     const FreeSpaceOptions& options, Raster* dem);
+
+}  // namespace ts

@@ -1,0 +1,182 @@
+#include "processing/dem/ground_room.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <vector>
+
+namespace ts {
+
+bool GroundRoomOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
+
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// The DEM's slope (rise over run) at a cell with data, from its neighbours with data.
+double SlopeAt(const Raster& dem, int r, int c) {
+  auto value = [&](int rr, int cc) {
+    if (rr < 0 || cc < 0 || rr >= dem.rows || cc >= dem.cols) return std::nan("");
+    const float v = dem.at(rr, cc);
+    return Raster::IsNoData(v) ? std::nan("") : static_cast<double>(v);
+  };
+  auto derivative = [&](double before, double here, double after) {
+    if (std::isfinite(before) && std::isfinite(after)) return 0.5 * (after - before);
+    if (std::isfinite(after)) return after - here;
+    if (std::isfinite(before)) return here - before;
+    return 0.0;
+  };
+  const double z = value(r, c);
+  return std::hypot(derivative(value(r, c - 1), z, value(r, c + 1)),
+                    derivative(value(r - 1, c), z, value(r + 1, c))) /
+         dem.cell_m;
+}
+
+// Distance (m) from each cell centre to the nearest point, on a grid a quarter cell fine that
+// reaches margin_m beyond the DEM (points there count).
+cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double margin_m) {
+  constexpr int kRatio = 4;
+  const double fine = dem.cell_m / kRatio;
+  const int margin = static_cast<int>(std::ceil(margin_m / fine));
+  cv::Mat free(dem.rows * kRatio + 2 * margin, dem.cols * kRatio + 2 * margin, CV_8U,
+               cv::Scalar(255));
+  for (const Eigen::Vector3d& p : ground.positions) {
+    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / fine)) + margin;
+    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / fine)) + margin;
+    if (c >= 0 && r >= 0 && c < free.cols && r < free.rows) free.at<uint8_t>(r, c) = 0;
+  }
+  cv::Mat distance;
+  cv::distanceTransform(free, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::Mat at_centres(dem.rows, dem.cols, CV_64F);
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      at_centres.at<double>(r, c) = fine * distance.at<float>(r * kRatio + kRatio / 2 + margin,
+                                                              c * kRatio + kRatio / 2 + margin);
+  return at_centres;
+}
+
+// Ground points per DEM cell.
+std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
+  std::vector<int> count(dem.values.size(), 0);
+  for (const Eigen::Vector3d& p : ground.positions) {
+    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / dem.cell_m));
+    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / dem.cell_m));
+    if (c >= 0 && r >= 0 && c < dem.cols && r < dem.rows)
+      ++count[static_cast<size_t>(r) * dem.cols + c];
+  }
+  return count;
+}
+
+// The steepest slope of the seen cells within slope_window_m of each cell.
+cv::Mat SteepestSeenSlope(const Raster& dem, const std::vector<int>& count, double window_m) {
+  cv::Mat seen_slope(dem.rows, dem.cols, CV_32F, cv::Scalar(0));
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      if (count[static_cast<size_t>(r) * dem.cols + c] > 0 && !Raster::IsNoData(dem.at(r, c)))
+        seen_slope.at<float>(r, c) = static_cast<float>(SlopeAt(dem, r, c));
+  const int half = static_cast<int>(std::lround(window_m / dem.cell_m));
+  cv::Mat steepest;
+  cv::dilate(seen_slope, steepest,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
+  return steepest;
+}
+
+}  // namespace
+
+GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
+                                 const Raster& std_dev, const Raster* ceiling,
+                                 const GroundRoomOptions& o) {
+  GroundEstimate out{dem, std_dev, std::vector<uint8_t>(dem.values.size(), GroundEstimate::kSeen)};
+  const std::vector<int> count = PointsPerCell(ground, dem);
+  // The nearest cell with data, and how far it is.
+  cv::Mat no_data(dem.rows, dem.cols, CV_8U);
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      no_data.at<uint8_t>(r, c) = Raster::IsNoData(dem.at(r, c)) ? 255 : 0;
+  if (static_cast<size_t>(cv::countNonZero(no_data)) == no_data.total())
+    return out;  // nothing to start from
+  cv::Mat distance, label;
+  cv::distanceTransform(no_data, distance, label, cv::DIST_L2, cv::DIST_MASK_5,
+                        cv::DIST_LABEL_PIXEL);
+  std::vector<cv::Point> cell_of_label(dem.values.size() + 1);
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      if (!no_data.at<uint8_t>(r, c)) cell_of_label[label.at<int>(r, c)] = {c, r};
+  const cv::Mat steepest = SteepestSeenSlope(dem, count, o.slope_window_m);
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const size_t cell = static_cast<size_t>(r) * dem.cols + c;
+      if (!no_data.at<uint8_t>(r, c)) {
+        out.kind[cell] = count[cell] > 0 ? GroundEstimate::kSeen : GroundEstimate::kUnseen;
+        continue;
+      }
+      out.kind[cell] = GroundEstimate::kNoData;
+      const cv::Point from = cell_of_label[label.at<int>(r, c)];
+      double z = dem.at(from.y, from.x);
+      if (ceiling && !Raster::IsNoData(ceiling->at(r, c)))
+        z = std::min(z, double(ceiling->at(r, c)));
+      const float s0 = std_dev.at(from.y, from.x);
+      const double room =
+          0.5 * steepest.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m;
+      out.height.at(r, c) = static_cast<float>(z);
+      out.std.at(r, c) = static_cast<float>(std::hypot(Raster::IsNoData(s0) ? 0.0 : s0, room));
+    }
+  return out;
+}
+
+GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster& dem,
+                                      const GroundRoomOptions& o, Raster* std_dev) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("GroundRoomOptions: " + why);
+  if (std_dev->rows != dem.rows || std_dev->cols != dem.cols)
+    throw std::invalid_argument("WidenStdByGroundRoom: the std grid differs from the DEM's");
+  if (!ground.height_variances_m2.empty() &&
+      ground.height_variances_m2.size() != ground.positions.size())
+    throw std::invalid_argument("WidenStdByGroundRoom: one height variance per point or none");
+  GroundRoomResult result;
+  if (!o.enabled) return result;
+  // The ground's departure from the DEM's surface in each cell, less the points' own noise.
+  std::vector<double> departure2(dem.values.size(), 0.0), noise2(dem.values.size(), 0.0);
+  const std::vector<int> count = PointsPerCell(ground, dem);
+  for (size_t i = 0; i < ground.positions.size(); ++i) {
+    const Eigen::Vector3d& p = ground.positions[i];
+    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / dem.cell_m));
+    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / dem.cell_m));
+    if (c < 0 || r < 0 || c >= dem.cols || r >= dem.rows) continue;
+    const size_t cell = static_cast<size_t>(r) * dem.cols + c;
+    const double surface = dem.Interpolate(p.x(), p.y());
+    if (!std::isfinite(surface)) continue;
+    departure2[cell] += (p.z() - surface) * (p.z() - surface);
+    if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];
+  }
+  const cv::Mat steepest = SteepestSeenSlope(dem, count, o.slope_window_m);
+  const cv::Mat distance = DistanceToPoints(ground, dem, o.slope_window_m);
+  std::vector<double> widening, departures;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      float& s = std_dev->at(r, c);
+      if (Raster::IsNoData(dem.at(r, c)) || Raster::IsNoData(s)) continue;
+      const size_t cell = static_cast<size_t>(r) * dem.cols + c;
+      double room = 0.0;
+      if (count[cell] > 0) {
+        ++result.seen_cells;
+        room = std::sqrt(std::max(0.0, (departure2[cell] - noise2[cell]) / count[cell]));
+        departures.push_back(room);
+      } else {
+        ++result.unseen_cells;
+        room = 0.5 * steepest.at<float>(r, c) * distance.at<double>(r, c);
+        widening.push_back(room);
+      }
+      s = static_cast<float>(std::hypot(s, room));
+    }
+  result.median_unseen_widening_m = Median(widening);
+  result.median_seen_departure_m = Median(departures);
+  return result;
+}
+
+}  // namespace ts

@@ -1,0 +1,58 @@
+#pragma once
+// How far the ground of a DEM cell may lie from the DEM, where kriging's own standard deviation
+// does not know (issue 22: dem_std.tif honest everywhere it has a value). Kriging's sigma
+// assumes the terrain's variogram holds everywhere; two things it cannot see:
+//  - in a cell the cameras saw, ground that departs from the DEM's surface within the cell
+//    (a riser, a ditch's edge, a gully's lip): the ground points there show it. Their mean
+//    squared departure from the bilinear surface, less their own variance, is added.
+//  - in a cell nobody saw (no ground point in it), ground hidden behind a brow or a dike may
+//    fall away or rise as steeply as the steepest ground seen near it: d metres from the
+//    nearest ground point, by up to s d with s the steepest slope of the seen cells within
+//    slope_window_m. That room is taken as two standard deviations. The lines of sight above
+//    (free_space.h) have already taken the DEM down to where the ground can be.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/options.h"
+#include "processing/dem/kriging.h"
+#include "processing/io/raster.h"
+
+namespace ts {
+
+struct GroundRoomOptions {
+  bool enabled = true;
+  double slope_window_m = 5.0;  // the steepest seen slope within this of a cell bounds it
+  template <class Self, class V>
+  static void Declare(Self& self, V& v) {
+    v("enabled", self.enabled, {"widen the std by what the ground could do", "", 0, 1});
+    v("slope_window_m", self.slope_window_m,
+      {"the steepest seen slope within this of a cell bounds its unseen ground", "m", 0, 100});
+  }
+  bool Check(std::string* why) const;
+};
+
+struct GroundRoomResult {
+  int seen_cells = 0, unseen_cells = 0;   // cells with data
+  double median_unseen_widening_m = 0.0;  // the room's std in unseen cells
+  double median_seen_departure_m = 0.0;   // the ground's departure in seen cells
+};
+
+// Every cell of the square for the terrain correction, also those without data: each gets the
+// height of the nearest cell with data, capped by the lines of sight over it (ceiling: the
+// per-cell ceilings of free_space.h, or none), and a std of the room the steepest seen ground
+// near that cell leaves over the distance, as above.
+struct GroundEstimate {
+  enum Kind : uint8_t { kSeen = 0, kUnseen = 1, kNoData = 2 };
+  Raster height, std;
+  std::vector<uint8_t> kind;  // per cell
+};
+GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem, const Raster& std,
+                                 const Raster* ceiling, const GroundRoomOptions& options);
+
+// ground: the ground points kriged, in the DEM's frame. Widens `std` (the DEM's grid) where
+// `dem` has data.
+GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster& dem,
+                                      const GroundRoomOptions& options, Raster* std);
+
+}  // namespace ts

@@ -1,0 +1,95 @@
+// The lines of sight against a dike of known geometry: a camera 1.5 m above level ground
+// (z = 0) sees the field 20-30 m out over a dike. Every line to a point at distance D passes
+// over distance x at 1.5 (1 - x / D). A DEM that bridged the hollow behind the dike with 1 m of
+// ground must come down below those lines, and only where they pass.
+#include "processing/dem/free_space.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace ts {
+namespace {
+
+constexpr double kEye = 1.5;
+
+std::vector<SightLine> FieldLines(double range_sigma_m) {
+  std::vector<SightLine> lines;
+  for (double y = -2.0; y <= 2.0 + 1e-9; y += 0.25)
+    for (double x = 20.0; x <= 30.0 + 1e-9; x += 0.25)
+      lines.push_back({{0.0, 0.0, kEye}, {x, y, 0.0}, range_sigma_m});
+  return lines;
+}
+
+// x 0..40 m, y -10..10 m, 1 m cells, all at `height`.
+Raster Level(double height) {
+  Raster dem = Raster::Make(0.0, 10.0, 1.0, 40, 20);
+  for (float& v : dem.values) v = static_cast<float>(height);
+  return dem;
+}
+
+TEST(FreeSpace, TheCeilingOfACellIsTheLowestLineOverIt) {
+  const Raster grid = Level(0.0);
+  const SightLineCeilings c = FindSightLineCeilings(FieldLines(0.0), grid, {});
+  // On the line y = 0, over x: the lowest line is the one to the nearest point past the cell
+  // and at least a cell beyond it (20 m: the line's end stops a cell short).
+  for (int col = 1; col < 18; ++col) {
+    const float ceiling = c.per_cell.at(10, col);  // row 10: y in [-1, 0)
+    ASSERT_FALSE(Raster::IsNoData(ceiling)) << col;
+    const double x_far = col + 1.0;  // the cell's far edge sees the lowest line
+    EXPECT_NEAR(ceiling, kEye * (1.0 - x_far / 20.0), 0.06) << col;
+  }
+  // No line reaches y = 8.
+  EXPECT_TRUE(Raster::IsNoData(c.per_cell.at(2, 10)));
+}
+
+TEST(FreeSpace, ALineStopsItsRangeSigmasShortOfItsPoint) {
+  const Raster grid = Level(0.0);
+  FreeSpaceOptions o;
+  o.end_sigmas = 2.0;
+  // A range sigma of 2.5 m: no line reaches within 5 m of its point. Nothing past 25 m (the
+  // farthest point is 30 m out), and over 16-17 m only the lines to points 21 m out or more.
+  const SightLineCeilings c = FindSightLineCeilings(FieldLines(2.5), grid, o);
+  for (int col = 26; col < 40; ++col) EXPECT_TRUE(Raster::IsNoData(c.per_cell.at(10, col))) << col;
+  EXPECT_NEAR(c.per_cell.at(10, 16), kEye * (1.0 - 17.0 / 22.0), 0.1);
+}
+
+TEST(FreeSpace, ABridgedHollowComesDownBelowEveryLineAndNothingElseMoves) {
+  Raster dem = Level(0.0);
+  // The bridge: 1 m of ground over the hollow 8-14 m out, across the whole width.
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 8; c < 14; ++c) dem.at(r, c) = 1.0f;
+  const SightLineCeilings ceilings = FindSightLineCeilings(FieldLines(0.05), dem, {});
+  const FreeSpaceResult result = LowerBelowSightLines(ceilings, {}, &dem);
+  EXPECT_GT(result.cells_lowered, 0);
+  // Below every ceiling where the bilinear surface is defined.
+  for (const SightLineCeilings::Ceiling& e : ceilings.ceilings) {
+    const double z = dem.Interpolate(e.x, e.y);
+    if (std::isfinite(z)) {
+      EXPECT_LE(z, e.height + 1e-3) << e.x << " " << e.y;
+    }
+  }
+  // Over the hollow on the lines (|y| < 1.5), the bridge is cut to the lines' height; far
+  // from them (|y| > 4) it stands; level ground never rises.
+  EXPECT_LT(dem.at(10, 12), 1.5 * (1.0 - 12.0 / 20.0) + 0.05);
+  EXPECT_FLOAT_EQ(dem.at(2, 10), 1.0f);
+  EXPECT_FLOAT_EQ(dem.at(17, 10), 1.0f);
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      if (c < 8 || c >= 14) {
+        EXPECT_LE(dem.at(r, c), 0.0f);
+      }
+  // Cut only: nothing was raised and level ground under the lines is untouched.
+  EXPECT_FLOAT_EQ(dem.at(10, 25), 0.0f);
+}
+
+TEST(FreeSpace, NoDataCellsStayNoData) {
+  Raster dem = Level(1.0);
+  dem.at(10, 10) = Raster::kNoData;
+  const SightLineCeilings ceilings = FindSightLineCeilings(FieldLines(0.05), dem, {});
+  LowerBelowSightLines(ceilings, {}, &dem);
+  EXPECT_TRUE(Raster::IsNoData(dem.at(10, 10)));
+}
+
+}  // namespace
+}  // namespace ts
