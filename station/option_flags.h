@@ -61,4 +61,59 @@ CLI::Option* AddDeclaredOption(CLI::App* app, const std::string& flag, Options& 
   return binder.option;
 }
 
+// Sets the declared field at path from text ("ground.slope", "0.4"): for `--set NAME=VALUE`,
+// any option of a step without a flag of its own. Ranges are checked where the options are.
+class OptionSetter : public OptionPath {
+ public:
+  OptionSetter(std::string path, std::string text)
+      : path_(std::move(path)), text_(std::move(text)) {}
+  template <class T>
+  void operator()(const char* name, T& field, const OptionInfo&) {
+    if (Path(name) != path_) return;
+    found = true;
+    std::istringstream in(text_);
+    if constexpr (std::is_same_v<T, std::string>) {
+      field = text_;
+      parsed = true;
+    } else if constexpr (std::is_same_v<T, bool>) {
+      parsed = text_ == "1" || text_ == "true" || text_ == "on" || text_ == "0" ||
+               text_ == "false" || text_ == "off";
+      if (parsed) field = text_ == "1" || text_ == "true" || text_ == "on";
+    } else if constexpr (std::is_enum_v<T>) {
+      long long v = 0;
+      parsed = static_cast<bool>(in >> v) && in.peek() == EOF;
+      if (parsed) field = static_cast<T>(v);
+    } else {
+      T v{};
+      parsed = static_cast<bool>(in >> v) && in.peek() == EOF;
+      if (parsed) field = v;
+    }
+  }
+  template <class Sub>
+  void Group(const char* name, Sub& sub) {
+    groups_.push_back(name);
+    Sub::Declare(sub, *this);
+    groups_.pop_back();
+  }
+  bool found = false, parsed = false;
+
+ private:
+  std::string path_, text_;
+};
+
+// "NAME=VALUE" applied to options; the error names what was wrong, empty when set.
+template <class Options>
+std::string SetDeclaredOption(Options& options, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    return "--set " + assignment + ": expected NAME=VALUE (e.g. ground.slope=0.1)";
+  OptionSetter setter(assignment.substr(0, eq), assignment.substr(eq + 1));
+  Options::Declare(options, setter);
+  if (!setter.found) return "--set " + assignment + ": no option " + assignment.substr(0, eq);
+  if (!setter.parsed)
+    return "--set " + assignment + ": " + assignment.substr(eq + 1) + " is not a value of " +
+           assignment.substr(0, eq);
+  return "";
+}
+
 }  // namespace ts

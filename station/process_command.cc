@@ -25,6 +25,7 @@ namespace {
 struct ProcessArgs {
   std::string station;
   ProcessOptions options;
+  std::vector<std::string> set;  // NAME=VALUE, any declared option
   bool json = false;
 };
 
@@ -193,8 +194,14 @@ void AddProcessCommands(CLI::App& app) {
   AddDeclaredOption(p, "--max-distance-m", process->options, "kriging.max_distance_m");
   AddDeclaredOption(p, "--object-shadow-reach-m", process->options,
                     "horizon.object_shadow_reach_m");
+  p->add_option("--set", process->set,
+                "NAME=VALUE: any option of process (report.json's \"options\" names them), "
+                "e.g. ground.slope=0.1; repeatable");
   p->add_flag("--json", process->json, "print the report as JSON");
   p->callback([process] {
+    for (const std::string& assignment : process->set)
+      if (const std::string error = SetDeclaredOption(process->options, assignment); !error.empty())
+        throw CommandError(error);
     const nlohmann::json r = ProcessOrThrow(process->station, process->options,
                                             ::isatty(STDERR_FILENO) && !process->json);
     if (process->json)

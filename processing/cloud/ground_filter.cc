@@ -13,7 +13,10 @@ namespace ts {
 GroundFilterOptions GroundFilterOptions::ForTripod() {
   GroundFilterOptions g;
   g.elevation_threshold_m = 0.2;
-  g.elevation_scaler = 0.25;
+  // The provisional ground is the lowest point of each cell: on a slope s the points of one
+  // cell spread over s x cell_m above it, and all of them are ground (steep terrain's points
+  // were cut as objects with less).
+  g.elevation_scaler = g.cell_m;
   g.slope = 0.08;
   return g;
 }
@@ -62,6 +65,30 @@ void LowerObjectShadows(const GridIndex& grid, const cv::Mat& known,
   lowered.copyTo(*surface, shadow);
 }
 
+// The surface continued past its borders as the slope it ends on (a point reflection about each
+// border cell): a slope cut off by the cloud's end is no cliff, and the opening must not take
+// its upper edge for an object, as it would next to a flat (replicated) border.
+cv::Mat ContinuedPastBorders(const cv::Mat& surface, int pad) {
+  cv::Mat wide, tall;
+  cv::copyMakeBorder(surface, wide, 0, 0, pad, pad, cv::BORDER_REFLECT_101);
+  for (int r = 0; r < wide.rows; ++r) {
+    const float left = wide.at<float>(r, pad), right = wide.at<float>(r, wide.cols - 1 - pad);
+    for (int k = 0; k < pad; ++k) {
+      wide.at<float>(r, k) = 2 * left - wide.at<float>(r, k);
+      wide.at<float>(r, wide.cols - 1 - k) = 2 * right - wide.at<float>(r, wide.cols - 1 - k);
+    }
+  }
+  cv::copyMakeBorder(wide, tall, pad, pad, 0, 0, cv::BORDER_REFLECT_101);
+  for (int c = 0; c < tall.cols; ++c) {
+    const float top = tall.at<float>(pad, c), bottom = tall.at<float>(tall.rows - 1 - pad, c);
+    for (int k = 0; k < pad; ++k) {
+      tall.at<float>(k, c) = 2 * top - tall.at<float>(k, c);
+      tall.at<float>(tall.rows - 1 - k, c) = 2 * bottom - tall.at<float>(tall.rows - 1 - k, c);
+    }
+  }
+  return tall;
+}
+
 }  // namespace
 
 GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
@@ -92,15 +119,17 @@ GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
 
   // 2. Progressive opening: cells an opening lowers by more than the slope allows are objects.
   cv::Mat object(grid.rows(), grid.cols(), CV_8UC1, cv::Scalar(0));
-  cv::Mat last = surface.clone(), opened;
   const int max_radius = std::max(1, static_cast<int>(std::lround(o.max_window_m / o.cell_m)));
+  const int pad = std::min(max_radius, std::min(grid.rows(), grid.cols()) - 1);
+  const cv::Rect inside(pad, pad, grid.cols(), grid.rows());
+  cv::Mat last = ContinuedPastBorders(surface, pad), opened;
   for (int radius = 1; radius <= max_radius; ++radius) {
     const cv::Mat disk =
         cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
     cv::morphologyEx(last, opened, cv::MORPH_OPEN, disk, cv::Point(-1, -1), 1,
                      cv::BORDER_REPLICATE);
     const float threshold = static_cast<float>(o.slope * radius * o.cell_m);
-    object.setTo(1, (last - opened) > threshold);
+    object.setTo(1, (last(inside) - opened(inside)) > threshold);
     std::swap(last, opened);
   }
 

@@ -52,7 +52,8 @@ struct GroundFilterOptions {
   }
   bool Check(std::string* why) const;
   // For a tripod's cloud: a tighter band around the ground and a smaller slope allowance than
-  // the airborne defaults above (the near ground is dense and precise; trees stand close).
+  // the airborne defaults above (the near ground is dense and precise; trees stand close); the
+  // band grows with the local slope by a cell's span.
   static GroundFilterOptions ForTripod();
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
@@ -18,8 +19,9 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// The DEM's slope (rise over run) at a cell with data, from its neighbours with data.
-double SlopeAt(const Raster& dem, int r, int c) {
+// The DEM's gradient (rise over run, east and north) at a cell with data, from its neighbours
+// with data.
+Eigen::Vector2d GradientAt(const Raster& dem, int r, int c) {
   auto value = [&](int rr, int cc) {
     if (rr < 0 || cc < 0 || rr >= dem.rows || cc >= dem.cols) return std::nan("");
     const float v = dem.at(rr, cc);
@@ -32,8 +34,9 @@ double SlopeAt(const Raster& dem, int r, int c) {
     return 0.0;
   };
   const double z = value(r, c);
-  return std::hypot(derivative(value(r, c - 1), z, value(r, c + 1)),
-                    derivative(value(r - 1, c), z, value(r + 1, c))) /
+  // Rows run south: north is the row before.
+  return Eigen::Vector2d(derivative(value(r, c - 1), z, value(r, c + 1)),
+                         derivative(value(r + 1, c), z, value(r - 1, c))) /
          dem.cell_m;
 }
 
@@ -72,18 +75,35 @@ std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
   return count;
 }
 
-// The steepest slope of the seen cells within slope_window_m of each cell.
-cv::Mat SteepestSeenSlope(const Raster& dem, const std::vector<int>& count, double window_m) {
-  cv::Mat seen_slope(dem.rows, dem.cols, CV_32F, cv::Scalar(0));
+// How much the slope of the seen cells within window_m of each cell changes: the range of
+// their gradients, east and north, combined. Kriging's linear drift carries a cell's slope
+// on into ground nobody saw; the hidden ground can turn by as much as the seen ground turns.
+cv::Mat SeenSlopeChange(const Raster& dem, const std::vector<int>& count, double window_m) {
+  constexpr float kNone = std::numeric_limits<float>::infinity();
+  cv::Mat east_hi(dem.rows, dem.cols, CV_32F, cv::Scalar(-kNone)),
+      east_lo(east_hi.size(), CV_32F, cv::Scalar(kNone));
+  cv::Mat north_hi = east_hi.clone(), north_lo = east_lo.clone();
   for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c)
-      if (count[static_cast<size_t>(r) * dem.cols + c] > 0 && !Raster::IsNoData(dem.at(r, c)))
-        seen_slope.at<float>(r, c) = static_cast<float>(SlopeAt(dem, r, c));
+    for (int c = 0; c < dem.cols; ++c) {
+      if (count[static_cast<size_t>(r) * dem.cols + c] == 0 || Raster::IsNoData(dem.at(r, c)))
+        continue;
+      const Eigen::Vector2d g = GradientAt(dem, r, c);
+      east_hi.at<float>(r, c) = east_lo.at<float>(r, c) = static_cast<float>(g.x());
+      north_hi.at<float>(r, c) = north_lo.at<float>(r, c) = static_cast<float>(g.y());
+    }
   const int half = static_cast<int>(std::lround(window_m / dem.cell_m));
-  cv::Mat steepest;
-  cv::dilate(seen_slope, steepest,
-             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
-  return steepest;
+  const cv::Mat window =
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1));
+  for (cv::Mat* m : {&east_hi, &north_hi}) cv::dilate(*m, *m, window);
+  for (cv::Mat* m : {&east_lo, &north_lo}) cv::erode(*m, *m, window);
+  cv::Mat change(dem.rows, dem.cols, CV_32F, cv::Scalar(0));
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const float de = east_hi.at<float>(r, c) - east_lo.at<float>(r, c);
+      const float dn = north_hi.at<float>(r, c) - north_lo.at<float>(r, c);
+      if (std::isfinite(de) && std::isfinite(dn)) change.at<float>(r, c) = std::hypot(de, dn);
+    }
+  return change;
 }
 
 }  // namespace
@@ -107,7 +127,7 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c)
       if (!no_data.at<uint8_t>(r, c)) cell_of_label[label.at<int>(r, c)] = {c, r};
-  const cv::Mat steepest = SteepestSeenSlope(dem, count, o.slope_window_m);
+  const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
@@ -122,7 +142,7 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
         z = std::min(z, double(ceiling->at(r, c)));
       const float s0 = std_dev.at(from.y, from.x);
       const double room =
-          0.5 * steepest.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m;
+          0.5 * turn.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m;
       out.height.at(r, c) = static_cast<float>(z);
       out.std.at(r, c) = static_cast<float>(std::hypot(Raster::IsNoData(s0) ? 0.0 : s0, room));
     }
@@ -154,7 +174,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     departure2[cell] += (p.z() - surface) * (p.z() - surface);
     if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];
   }
-  const cv::Mat steepest = SteepestSeenSlope(dem, count, o.slope_window_m);
+  const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
   const cv::Mat distance = DistanceToPoints(ground, dem, o.slope_window_m);
   std::vector<double> widening, departures;
   for (int r = 0; r < dem.rows; ++r)
@@ -169,7 +189,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
         departures.push_back(room);
       } else {
         ++result.unseen_cells;
-        room = 0.5 * steepest.at<float>(r, c) * distance.at<double>(r, c);
+        room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
         widening.push_back(room);
       }
       s = static_cast<float>(std::hypot(s, room));

@@ -5,9 +5,10 @@
 //  - in a cell the cameras saw, ground that departs from the DEM's surface within the cell
 //    (a riser, a ditch's edge, a gully's lip): the ground points there show it. Their mean
 //    squared departure from the bilinear surface, less their own variance, is added.
-//  - in a cell nobody saw (no ground point in it), ground hidden behind a brow or a dike may
-//    fall away or rise as steeply as the steepest ground seen near it: d metres from the
-//    nearest ground point, by up to s d with s the steepest slope of the seen cells within
+//  - in a cell nobody saw (no ground point in it), kriging's linear drift carries the slope of
+//    the ground around on into it; ground hidden behind a brow or a dike may turn away from
+//    that slope as much as the seen ground turns near it: d metres from the nearest ground
+//    point (or the mark), by up to t d with t the range of the seen cells' gradients within
 //    slope_window_m. That room is taken as two standard deviations. The lines of sight above
 //    (free_space.h) have already taken the DEM down to where the ground can be.
 #include <cstdint>
@@ -22,12 +23,13 @@ namespace ts {
 
 struct GroundRoomOptions {
   bool enabled = true;
-  double slope_window_m = 5.0;  // the steepest seen slope within this of a cell bounds it
+  double slope_window_m = 5.0;  // the seen slopes within this of a cell bound its turn
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"widen the std by what the ground could do", "", 0, 1});
     v("slope_window_m", self.slope_window_m,
-      {"the steepest seen slope within this of a cell bounds its unseen ground", "m", 0, 100});
+      {"how much the seen slopes within this of a cell turn bounds its unseen ground", "m", 0,
+       100});
   }
   bool Check(std::string* why) const;
 };
@@ -40,7 +42,7 @@ struct GroundRoomResult {
 
 // Every cell of the square for the terrain correction, also those without data: each gets the
 // height of the nearest cell with data, capped by the lines of sight over it (ceiling: the
-// per-cell ceilings of free_space.h, or none), and a std of the room the steepest seen ground
+// per-cell ceilings of free_space.h, or none), and a std of the room the seen ground's turn
 // near that cell leaves over the distance, as above.
 struct GroundEstimate {
   enum Kind : uint8_t { kSeen = 0, kUnseen = 1, kNoData = 2 };

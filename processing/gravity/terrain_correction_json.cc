@@ -22,8 +22,9 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
           {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
           {"sigma_method",
            "linearisation: dTC/dh of each cell times its std; cells whose ground was seen "
-           "independent, cells nobody saw (bounded by the lines of sight and the steepest seen "
-           "slope) as one unknown, added linearly; the fully correlated sum is an upper bound"},
+           "independent, cells nobody saw (bounded by the lines of sight and how the seen "
+           "ground turns) as one unknown, added linearly; the fully correlated sum is an upper "
+           "bound"},
           {"rings", rings},
           {"quadrants_mgal",
            {{"NE", tc.quadrant_mgal[0]},

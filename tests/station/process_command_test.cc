@@ -39,6 +39,16 @@ TEST(ProcessCommand, BadInputGivesOneClearError) {
   EXPECT_NE(error_of(s + " --max-distance-m 1e9")
                 .find("kriging.max_distance_m must be in [0.1, 50] m, got 1e+09"),
             std::string::npos);
+  // --set NAME=VALUE: the name, the value and the range, each named.
+  EXPECT_NE(error_of(s + " --set ground.slope").find("expected NAME=VALUE"), std::string::npos);
+  EXPECT_NE(error_of(s + " --set ground.slop=0.1").find("no option ground.slop"),
+            std::string::npos);
+  EXPECT_NE(error_of(s + " --set ground.slope=steep").find("steep is not a value of ground.slope"),
+            std::string::npos);
+  EXPECT_NE(error_of(s + " --set free_space.enabled=maybe").find("free_space.enabled"),
+            std::string::npos);
+  EXPECT_NE(error_of(s + " --set ground.slope=-1").find("ground.slope must be in [0, 10]"),
+            std::string::npos);
   std::ofstream(s + "/raw/pair_01_right.png", std::ios::app) << "garbage";
   EXPECT_NE(error_of(s).find("pair_01_right.png"), std::string::npos);
 }

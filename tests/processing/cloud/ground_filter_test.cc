@@ -73,12 +73,24 @@ Grove MakeGrove() {
   g.truth.push_back(1);
   return g;
 }
-GroundFilterOptions TripodOptions() {  // as `process` sets them
-  GroundFilterOptions o;
-  o.elevation_threshold_m = 0.2;
-  o.elevation_scaler = 0.25;
-  o.slope = 0.08;
-  return o;
+GroundFilterOptions TripodOptions() { return GroundFilterOptions::ForTripod(); }
+
+// Ground rising at 45 degrees all round (a bowl: the station at the foot of slopes), seen
+// densely (every 0.1 m), is ground: the points of a 1 m cell spread over 1 m above its lowest
+// one. (Not so a peak: the opening cuts convex ground steeper than `slope`, which is the
+// filter's idea of an object.)
+TEST(GroundFilter, SteepGroundStaysGroundForATripod) {
+  std::vector<Eigen::Vector3d> cone;
+  for (double y = -20.0; y < 20.0; y += 0.1)
+    for (double x = -20.0; x < 20.0; x += 0.1) cone.emplace_back(x, y, std::hypot(x, y));
+  const std::vector<uint8_t> ground = FilterGround(cone, TripodOptions()).ground;
+  size_t kept = 0, inside = 0;
+  for (size_t i = 0; i < cone.size(); ++i) {
+    if (std::hypot(cone[i].x(), cone[i].y()) > 15.0) continue;
+    ++inside;
+    kept += ground[i];
+  }
+  EXPECT_GT(static_cast<double>(kept) / inside, 0.99);
 }
 
 TEST(GroundFilter, KnownObjectsBehindARimLetTheRimGo) {

@@ -1,6 +1,7 @@
 // The room the ground has where kriging cannot know, against geometry with a known answer:
-// ground seen on a plane rising at 20 % except in a 6 m gap; a cell d metres from the nearest
-// ground point gets 0.2 d / 2 added (in quadrature) to its std. A seen cell across which the
+// ground seen on a crease (falling at 20 % to x = 10 m, rising at 20 % after it) except in a
+// 6 m gap across it; the seen slopes turn by 0.4 there, so a cell d metres from the nearest
+// ground point gets 0.4 d / 2 added (in quadrature) to its std. A seen cell across which the
 // ground steps by 1 m gets the step's departure from the DEM's surface.
 #include "processing/dem/ground_room.h"
 
@@ -11,7 +12,7 @@
 namespace ts {
 namespace {
 
-double Plane(double x) { return 0.2 * x; }
+double Crease(double x) { return 0.2 * std::abs(x - 10.0); }
 
 struct Site {
   KrigingPoints ground;
@@ -20,27 +21,27 @@ struct Site {
   Site() {
     for (int r = 0; r < dem.rows; ++r)
       for (int c = 0; c < dem.cols; ++c) {
-        dem.at(r, c) = static_cast<float>(Plane(dem.CellCentreX(c)));
+        dem.at(r, c) = static_cast<float>(Crease(dem.CellCentreX(c)));
         std.at(r, c) = 0.01f;
       }
     // Points every 0.25 m, none in the gap x, y in [7, 13).
     for (double y = 0.125; y < 20.0; y += 0.25)
       for (double x = 0.125; x < 20.0; x += 0.25) {
         if (x >= 7.0 && x < 13.0 && y >= 7.0 && y < 13.0) continue;
-        ground.positions.emplace_back(x, y, Plane(x));
+        ground.positions.emplace_back(x, y, Crease(x));
         ground.height_variances_m2.push_back(0.0);
       }
   }
 };
 
-TEST(GroundRoom, UnseenCellsGetTheSteepestSeenSlopeOverTheirDistance) {
+TEST(GroundRoom, UnseenCellsGetTheSeenSlopesTurnOverTheirDistance) {
   Site site;
   const GroundRoomResult result = WidenStdByGroundRoom(site.ground, site.dem, {}, &site.std);
   EXPECT_EQ(result.unseen_cells, 36);
   // The gap's centre cell (x, y = 9.5, row 10 is y 9.5): 2.375 m from the nearest point.
   const double d = 9.5 - 6.875;
-  EXPECT_NEAR(site.std.at(10, 9), std::hypot(0.01, 0.5 * 0.2 * d), 0.02);
-  // A seen cell on the plane keeps kriging's std.
+  EXPECT_NEAR(site.std.at(10, 9), std::hypot(0.01, 0.5 * 0.4 * d), 0.06);
+  // A seen cell keeps kriging's std: the ground there is the DEM's surface.
   EXPECT_NEAR(site.std.at(2, 2), 0.01, 1e-4);
 }
 
@@ -58,16 +59,18 @@ TEST(GroundRoom, ASeenCellAcrossAStepGetsTheStepsDeparture) {
 
 TEST(GroundRoom, EveryCellGetsAnEstimateCappedByTheLinesOfSight) {
   Site site;
-  site.dem.at(10, 15) = Raster::kNoData;
-  site.std.at(10, 15) = Raster::kNoData;
+  // A cell on the crease (x 10.5 m, y 16.5 m) without a DEM value, a line of sight 0.05 m up.
+  site.dem.at(3, 10) = Raster::kNoData;
+  site.std.at(3, 10) = Raster::kNoData;
   Raster ceiling = Raster::Make(0.0, 20.0, 1.0, 20, 20);
-  ceiling.at(10, 15) = 1.0f;  // below the plane (3.1 there)
+  ceiling.at(3, 10) = 0.05f;  // below the crease's 0.1 there
   const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &ceiling, {});
-  EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 15], GroundEstimate::kNoData);
+  EXPECT_EQ(e.kind[static_cast<size_t>(3) * 20 + 10], GroundEstimate::kNoData);
   EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 10], GroundEstimate::kUnseen);
   EXPECT_EQ(e.kind[static_cast<size_t>(2) * 20 + 2], GroundEstimate::kSeen);
-  EXPECT_FLOAT_EQ(e.height.at(10, 15), 1.0f);
-  EXPECT_GT(e.std.at(10, 15), 0.01f);
+  EXPECT_FLOAT_EQ(e.height.at(3, 10), 0.05f);
+  // A cell from its nearest neighbour with data, where the seen slopes turn by 0.4.
+  EXPECT_NEAR(e.std.at(3, 10), std::hypot(0.01, 0.5 * 0.4 * 1.0), 0.02);
 }
 
 }  // namespace
