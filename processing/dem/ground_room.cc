@@ -182,17 +182,19 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       float& s = std_dev->at(r, c);
       if (Raster::IsNoData(dem.at(r, c)) || Raster::IsNoData(s)) continue;
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
-      double room = 0.0;
+      // The centre of a cell seen at one corner is as unseen as ground that far from a point.
+      const double turn_room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
+      double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;
-        room = std::sqrt(std::max(0.0, (departure2[cell] - noise2[cell]) / count[cell]));
-        departures.push_back(room);
+        departure = std::sqrt(std::max(0.0, (departure2[cell] - noise2[cell]) / count[cell]));
+        departures.push_back(departure);
       } else {
         ++result.unseen_cells;
-        room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
-        widening.push_back(room);
+        widening.push_back(turn_room);
       }
-      s = static_cast<float>(std::hypot(s, room));
+      s = static_cast<float>(
+          std::sqrt(double(s) * s + departure * departure + turn_room * turn_room));
     }
   result.median_unseen_widening_m = Median(widening);
   result.median_seen_departure_m = Median(departures);

@@ -150,12 +150,16 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) 
 
 bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   const StationInputs& in = *w->inputs;
-  // Every point kept (ground and objects: a line to a tree's crown passes over ground too),
-  // from the left camera of its pair.
+  // Every point near the square but the height blunders, from the left camera of its pair:
+  // ground and objects (a line to a tree's crown passes over ground too), and points the
+  // sight-line tests took for objects (a trunk is solid; a point matched in front of the
+  // surface stops its line before the ground). Only a point matched behind the surface
+  // would cut into it, by more than its range sigma.
   std::vector<SightLine> lines;
-  lines.reserve(w->kept.size());
-  for (const int index : w->kept_index) {
-    const CloudPoint& p = w->cloud[index];
+  lines.reserve(w->region.size());
+  for (size_t i = 0; i < w->region.size(); ++i) {
+    if (w->blunder[i]) continue;
+    const CloudPoint& p = w->cloud[w->region_index[i]];
     SightLine line{w->viewpoints.at(p.pair), p.position_m, 0.0};
     const Eigen::Vector3d ray = (line.point - line.camera).normalized();
     line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
