@@ -5,6 +5,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <utility>
 
 namespace ts {
 
@@ -47,7 +48,24 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
   if (!(run > 0.0) || !std::isfinite(length)) return;
   // The range's sigma, as a horizontal distance.
   const double end_gap = std::max(end_gap_min_m, end_sigmas * line.range_sigma_m * run / length);
-  for (double s = 0.5 * step_m; s < run - end_gap; s += step_m) {
+  // Only the stretch over the grid (slabs in x and y).
+  double from = 0.0, to = run - end_gap;
+  const double max_x = fine->min_x + fine->cols * fine->cell_m;
+  const double min_y = fine->max_y - fine->rows * fine->cell_m;
+  const double bounds[2][2] = {{fine->min_x, max_x}, {min_y, fine->max_y}};
+  for (int axis = 0; axis < 2; ++axis) {
+    const double start = line.camera[axis], per_m = d[axis] / run;
+    if (per_m == 0.0) {
+      if (start < bounds[axis][0] || start > bounds[axis][1]) return;
+      continue;
+    }
+    double a = (bounds[axis][0] - start) / per_m, b = (bounds[axis][1] - start) / per_m;
+    if (a > b) std::swap(a, b);
+    from = std::max(from, a), to = std::min(to, b);
+  }
+  const double first =
+      0.5 * step_m + std::ceil(std::max(0.0, from - 0.5 * step_m) / step_m) * step_m;
+  for (double s = first; s < to; s += step_m) {
     const Eigen::Vector3d q = line.camera + d * (s / run);
     fine->Add(q.x(), q.y(), q.z());
   }
@@ -102,15 +120,20 @@ FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const Fr
   for (const SightLineCeilings::Ceiling& e : ceilings.ceilings) {
     const double fc = (e.x - dem->min_x_m) / dem->cell_m - 0.5;
     const double fr = (dem->max_y_m - e.y) / dem->cell_m - 0.5;
-    const int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
-    if (c0 < 0 || r0 < 0 || c0 + 1 >= dem->cols || r0 + 1 >= dem->rows) continue;
-    const double tx = fc - c0, ty = fr - r0;
+    int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
+    double tx = fc - c0, ty = fr - r0;
+    // On the outermost half cell the surface is the nearest cell's (Raster::Interpolate).
+    if (c0 < 0) c0 = 0, tx = 0.0;
+    if (r0 < 0) r0 = 0, ty = 0.0;
+    if (c0 + 1 >= dem->cols) c0 = dem->cols - 2, tx = 1.0;
+    if (r0 + 1 >= dem->rows) r0 = dem->rows - 2, ty = 1.0;
+    if (c0 < 0 || r0 < 0) continue;  // a grid one cell wide
     Constraint k{{}, {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, e.height, 0.0};
     bool data = true;
     for (int j = 0; j < 4; ++j) {
       const int r = r0 + j / 2, c = c0 + j % 2;
       k.cell[j] = static_cast<size_t>(r) * dem->cols + c;
-      data = data && !Raster::IsNoData(dem->values[k.cell[j]]);
+      data = data && (k.weight[j] == 0.0 || !Raster::IsNoData(dem->values[k.cell[j]]));
       k.weight_norm2 += k.weight[j] * k.weight[j];
     }
     if (data) constraints.push_back(k);

@@ -153,8 +153,9 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
   // Every point near the square but the height blunders, from the left camera of its pair:
   // ground and objects (a line to a tree's crown passes over ground too), and points the
   // sight-line tests took for objects (a trunk is solid; a point matched in front of the
-  // surface stops its line before the ground). Only a point matched behind the surface
-  // would cut into it, by more than its range sigma.
+  // surface stops its line short of the ground). Only a point matched behind the surface
+  // would cut into it, by more than its range sigma; beyond the neighbourhood no blunder
+  // filter has looked, and lines to points there cut terraces wrongly.
   std::vector<SightLine> lines;
   lines.reserve(w->region.size());
   for (size_t i = 0; i < w->region.size(); ++i) {
