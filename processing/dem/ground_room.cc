@@ -136,8 +136,12 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
         continue;
       }
       out.kind[cell] = GroundEstimate::kNoData;
+      // The nearest cell's slope carried on, as kriging's drift carries it into the cells it
+      // reaches; the room is for the turn it may take.
       const cv::Point from = cell_of_label[label.at<int>(r, c)];
-      double z = dem.at(from.y, from.x);
+      const Eigen::Vector2d slope = GradientAt(dem, from.y, from.x);
+      double z =
+          dem.at(from.y, from.x) + slope.dot(Eigen::Vector2d(c - from.x, from.y - r)) * dem.cell_m;
       if (ceiling && !Raster::IsNoData(ceiling->at(r, c)))
         z = std::min(z, double(ceiling->at(r, c)));
       const float s0 = std_dev.at(from.y, from.x);

@@ -41,9 +41,9 @@ struct GroundRoomResult {
 };
 
 // Every cell of the square for the terrain correction, also those without data: each gets the
-// height of the nearest cell with data, capped by the lines of sight over it (ceiling: the
-// per-cell ceilings of free_space.h, or none), and a std of the room the seen ground's turn
-// near that cell leaves over the distance, as above.
+// height of the nearest cell with data carried on along that cell's slope, capped by the lines
+// of sight over it (ceiling: the per-cell ceilings of free_space.h, or none), and a std of the
+// room the seen ground's turn near that cell leaves over the distance, as above.
 struct GroundEstimate {
   enum Kind : uint8_t { kSeen = 0, kUnseen = 1, kNoData = 2 };
   Raster height, std;
