@@ -5,11 +5,12 @@
 //  - in a cell the cameras saw, ground that departs from the DEM's surface within the cell
 //    (a riser, a ditch's edge, a gully's lip): the ground points there show it. Their mean
 //    squared departure from the bilinear surface, less their own variance, is added.
-//  - in a cell nobody saw (no ground point in it), kriging's linear drift carries the slope of
-//    the ground around on into it; ground hidden behind a brow or a dike may turn away from
-//    that slope as much as the seen ground turns near it: d metres from the nearest ground
-//    point (or the mark), by up to t d with t the range of the seen cells' gradients within
-//    slope_window_m. That room is taken as two standard deviations. The lines of sight above
+//  - at a cell's centre d metres from the nearest ground point (or the mark): kriging's linear
+//    drift carries the slope of the ground around on to it; ground hidden behind a brow or a
+//    dike may turn away from that slope as much as the seen ground turns near it, by up to
+//    t d with t the range of the seen cells' gradients within slope_window_m. That room is
+//    taken as two standard deviations. It is what matters in cells nobody saw (no ground
+//    point in them), and at the centre of a cell seen at one corner. The lines of sight above
 //    (free_space.h) have already taken the DEM down to where the ground can be.
 #include <cstdint>
 #include <string>
