@@ -1,10 +1,13 @@
 #include "processing/dem/free_space.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 namespace ts {
@@ -71,6 +74,41 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
   }
 }
 
+// One line per camera and ceiling_cell_m square of the points' positions, to the lowest point
+// there: the lines of one camera to the points of one small square run side by side, and the
+// lowest is below the others all along (to within the square's width). The near ground is
+// matched densely, so this leaves a fraction of the lines.
+std::vector<SightLine> LowestLinePerSquare(const std::vector<SightLine>& lines, double cell_m) {
+  struct Keyed {
+    std::array<double, 3> camera;
+    int64_t col, row;
+    size_t index;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(lines.size());
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const SightLine& l = lines[i];
+    if (!l.point.allFinite() || !l.camera.allFinite()) continue;
+    keyed.push_back({{l.camera.x(), l.camera.y(), l.camera.z()},
+                     static_cast<int64_t>(std::floor(l.point.x() / cell_m)),
+                     static_cast<int64_t>(std::floor(l.point.y() / cell_m)),
+                     i});
+  }
+  auto same_square = [](const Keyed& a, const Keyed& b) {
+    return a.camera == b.camera && a.col == b.col && a.row == b.row;
+  };
+  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& b) {
+    if (!same_square(a, b))
+      return std::tie(a.camera, a.col, a.row) < std::tie(b.camera, b.col, b.row);
+    const double za = lines[a.index].point.z(), zb = lines[b.index].point.z();
+    return za != zb ? za < zb : a.index < b.index;
+  });
+  std::vector<SightLine> lowest;
+  for (size_t k = 0; k < keyed.size(); ++k)
+    if (k == 0 || !same_square(keyed[k - 1], keyed[k])) lowest.push_back(lines[keyed[k].index]);
+  return lowest;
+}
+
 }  // namespace
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
@@ -83,10 +121,11 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
   std::vector<FineCeilings> chunks(kChunks, FineCeilings(grid, ratio));
   for (auto& c : chunks)
     std::fill(c.lowest.begin(), c.lowest.end(), SightLineCeilings::Ceiling{0, 0, kNone});
+  const std::vector<SightLine> lowest = LowestLinePerSquare(lines, o.ceiling_cell_m);
   cv::parallel_for_(cv::Range(0, kChunks), [&](const cv::Range& range) {
     for (int k = range.start; k < range.end; ++k)
-      for (size_t i = k; i < lines.size(); i += kChunks)
-        AddLine(lines[i], 0.5 * chunks[k].cell_m, grid.cell_m, o.end_sigmas, &chunks[k]);
+      for (size_t i = k; i < lowest.size(); i += kChunks)
+        AddLine(lowest[i], 0.5 * chunks[k].cell_m, grid.cell_m, o.end_sigmas, &chunks[k]);
   });
   for (int k = 1; k < kChunks; ++k) chunks[0].Merge(chunks[k]);
   const FineCeilings& fine = chunks[0];
