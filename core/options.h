@@ -48,8 +48,18 @@ inline std::string OptionNumberText(double v) {
   return out.str();
 }
 
-// Visits groups with their dotted path ("kriging.variogram.max_lag_m").
+// Visits groups with their dotted path ("kriging.variogram.max_lag_m"); Visitor is the class
+// that derives from it, which each group's Declare visits in turn.
+template <class Visitor>
 class OptionPath {
+ public:
+  template <class Sub>
+  void Group(const char* name, Sub& sub) {
+    groups_.push_back(name);
+    std::remove_cv_t<Sub>::Declare(sub, static_cast<Visitor&>(*this));
+    groups_.pop_back();
+  }
+
  protected:
   std::string Path(const char* name) const {
     std::string path;
@@ -60,7 +70,7 @@ class OptionPath {
 };
 
 // The first field outside its range (or not finite), named with its value.
-class OptionChecker : public OptionPath {
+class OptionChecker : public OptionPath<OptionChecker> {
  public:
   template <class T>
   void operator()(const char* name, const T& value, const OptionInfo& info) {
@@ -74,12 +84,6 @@ class OptionChecker : public OptionPath {
                OptionNumberText(info.max) + "]" + (*info.unit ? std::string(" ") + info.unit : "") +
                ", got " + OptionNumberText(v);
     }
-  }
-  template <class Sub>
-  void Group(const char* name, const Sub& sub) {
-    groups_.push_back(name);
-    std::remove_cv_t<Sub>::Declare(sub, *this);
-    groups_.pop_back();
   }
   const std::string& error() const { return error_; }
 

@@ -14,7 +14,7 @@
 
 namespace ts {
 
-class OptionFlagBinder : public OptionPath {
+class OptionFlagBinder : public OptionPath<OptionFlagBinder> {
  public:
   OptionFlagBinder(CLI::App* app, std::string flag, std::string path)
       : app_(app), flag_(std::move(flag)), path_(std::move(path)) {}
@@ -37,12 +37,6 @@ class OptionFlagBinder : public OptionPath {
     else
       option = app_->add_option(flag_, field, help.str());
   }
-  template <class Sub>
-  void Group(const char* name, Sub& sub) {
-    groups_.push_back(name);
-    Sub::Declare(sub, *this);
-    groups_.pop_back();
-  }
   CLI::Option* option = nullptr;
 
  private:
@@ -63,7 +57,7 @@ CLI::Option* AddDeclaredOption(CLI::App* app, const std::string& flag, Options& 
 
 // Sets the declared field at path from text ("ground.slope", "0.4"): for `--set NAME=VALUE`,
 // any option of a step without a flag of its own. Ranges are checked where the options are.
-class OptionSetter : public OptionPath {
+class OptionSetter : public OptionPath<OptionSetter> {
  public:
   OptionSetter(std::string path, std::string text)
       : path_(std::move(path)), text_(std::move(text)) {}
@@ -88,12 +82,6 @@ class OptionSetter : public OptionPath {
       parsed = static_cast<bool>(in >> v) && in.peek() == EOF;
       if (parsed) field = v;
     }
-  }
-  template <class Sub>
-  void Group(const char* name, Sub& sub) {
-    groups_.push_back(name);
-    Sub::Declare(sub, *this);
-    groups_.pop_back();
   }
   bool found = false, parsed = false;
 

@@ -16,6 +16,8 @@ bool FreeSpaceOptions::Check(std::string* why) const { return CheckDeclaredOptio
 
 namespace {
 
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
 // The lowest line per fine square of the DEM's extent, with where it passed.
 struct FineCeilings {
   FineCeilings(const Raster& grid, int ratio)
@@ -25,7 +27,7 @@ struct FineCeilings {
         cell_m(grid.cell_m / ratio),
         min_x(grid.min_x_m),
         max_y(grid.max_y_m),
-        lowest(static_cast<size_t>(cols) * rows) {}
+        lowest(static_cast<size_t>(cols) * rows, {0.0, 0.0, kNone}) {}
   void Add(double x, double y, double h) {
     const int c = static_cast<int>(std::floor((x - min_x) / cell_m));
     const int r = static_cast<int>(std::floor((max_y - y) / cell_m));
@@ -39,10 +41,8 @@ struct FineCeilings {
   }
   int ratio, cols, rows;
   double cell_m, min_x, max_y;
-  std::vector<SightLineCeilings::Ceiling> lowest;  // height +inf: no line
+  std::vector<SightLineCeilings::Ceiling> lowest;  // height kNone: no line
 };
-
-constexpr double kNone = std::numeric_limits<double>::infinity();
 
 void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double end_sigmas,
              FineCeilings* fine) {
@@ -119,8 +119,6 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
   // Fixed chunks, merged in order: the same result on any number of threads.
   constexpr int kChunks = 16;
   std::vector<FineCeilings> chunks(kChunks, FineCeilings(grid, ratio));
-  for (auto& c : chunks)
-    std::fill(c.lowest.begin(), c.lowest.end(), SightLineCeilings::Ceiling{0, 0, kNone});
   const std::vector<SightLine> lowest = LowestLinePerSquare(lines, o.ceiling_cell_m);
   cv::parallel_for_(cv::Range(0, kChunks), [&](const cv::Range& range) {
     for (int k = range.start; k < range.end; ++k)
@@ -179,25 +177,20 @@ FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const Fr
   }
   const std::vector<float> before = dem->values;
   std::vector<double> z(dem->values.begin(), dem->values.end());
-  constexpr double kConverged = 1e-3;  // m
-  for (result.sweeps = 0; result.sweeps < o.max_sweeps; ++result.sweeps) {
-    double worst = 0.0;
-    for (const Constraint& k : constraints) {
-      double surface = 0.0;
-      for (int j = 0; j < 4; ++j) surface += k.weight[j] * z[k.cell[j]];
-      const double excess = surface - k.height;
-      if (excess <= o.tolerance_m) continue;
-      worst = std::max(worst, excess - o.tolerance_m);
-      for (int j = 0; j < 4; ++j) z[k.cell[j]] -= k.weight[j] * excess / k.weight_norm2;
-    }
-    if (worst < kConverged) break;
+  for (const Constraint& k : constraints) {
+    double surface = 0.0;
+    for (int j = 0; j < 4; ++j) surface += k.weight[j] * z[k.cell[j]];
+    const double excess = surface - k.height;
+    if (excess <= o.tolerance_m) continue;
+    for (int j = 0; j < 4; ++j) z[k.cell[j]] -= k.weight[j] * excess / k.weight_norm2;
   }
+  constexpr double kLowered = 1e-3;  // m: counted as lowered
   double lowering = 0.0;
   for (size_t i = 0; i < z.size(); ++i) {
     if (Raster::IsNoData(before[i])) continue;
     dem->values[i] = static_cast<float>(z[i]);
     const double d = before[i] - dem->values[i];
-    if (d <= kConverged) continue;
+    if (d <= kLowered) continue;
     ++result.cells_lowered;
     lowering += d;
     result.max_lowering_m = std::max(result.max_lowering_m, d);

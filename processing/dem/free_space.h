@@ -7,16 +7,17 @@
 // A line counts up to end_sigmas standard deviations of its point's range short of the point
 // (and at least a cell): its direction is known to a pixel, its length only to the
 // intersection's range sigma, so a point matched too far would otherwise cut into the ground
-// in front of it. Along each line, every half cell, the line's height is a ceiling at that
-// place; the lowest ceiling per ceiling_cell_m square is kept (with where it was).
+// in front of it. Along each line, every half ceiling_cell_m, the line's height is a ceiling
+// at that place; the lowest ceiling per ceiling_cell_m square is kept (with where it was).
 //
 // The DEM is the bilinear surface of its cell centres. Each ceiling constrains the four cells
-// around it: w'z <= h, w the bilinear weights. Cyclic projection onto these half-spaces
-// (each step the least change of z that meets one) lowers the DEM until it meets them all;
-// it only ever lowers, and cells the lines do not reach are untouched.
+// around it: w'z <= h, w the bilinear weights. Each in turn is met by the least change of z
+// (a projection onto its half-space). That only lowers cells, with weights that are never
+// negative, so it cannot undo a constraint met before: one pass meets them all. Cells the
+// lines do not reach are untouched.
 //
 // Per cell, the lowest line over its square is also kept: the highest the ground of a cell
-// can be, which bounds the cells nobody saw (unseen_ground.h).
+// can be (products/dem_ceiling.tif; ground_room.h caps the cells without data by it).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -31,7 +32,6 @@ struct FreeSpaceOptions {
   double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
   double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
-  int max_sweeps = 200;          // of the cyclic projection
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"keep the DEM below every line of sight over it", "", 0, 1});
@@ -41,7 +41,6 @@ struct FreeSpaceOptions {
       {"the lowest line of sight per square this wide constrains the DEM", "m", 0.05, 10});
     v("tolerance_m", self.tolerance_m,
       {"a surface this far above a line of sight is left alone", "m", 0, 10});
-    v("max_sweeps", self.max_sweeps, {"sweeps of the projection onto the lines", "", 1, 10000});
   }
   bool Check(std::string* why) const;
 };
@@ -69,7 +68,6 @@ struct FreeSpaceResult {
   int cells_lowered = 0;
   double max_lowering_m = 0.0;
   double mean_lowering_m = 0.0;
-  int sweeps = 0;
 };
 
 // Lowers `dem` (nodata cells stay) until its bilinear surface is below every ceiling whose

@@ -66,12 +66,9 @@ cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double 
 // Ground points per DEM cell.
 std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
   std::vector<int> count(dem.values.size(), 0);
-  for (const Eigen::Vector3d& p : ground.positions) {
-    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / dem.cell_m));
-    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / dem.cell_m));
-    if (c >= 0 && r >= 0 && c < dem.cols && r < dem.rows)
-      ++count[static_cast<size_t>(r) * dem.cols + c];
-  }
+  int r = 0, c = 0;
+  for (const Eigen::Vector3d& p : ground.positions)
+    if (dem.CellOf(p.x(), p.y(), &r, &c)) ++count[static_cast<size_t>(r) * dem.cols + c];
   return count;
 }
 
@@ -111,7 +108,7 @@ cv::Mat SeenSlopeChange(const Raster& dem, const std::vector<int>& count, double
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
                                  const Raster& std_dev, const Raster* ceiling,
                                  const GroundRoomOptions& o) {
-  GroundEstimate out{dem, std_dev, std::vector<uint8_t>(dem.values.size(), GroundEstimate::kSeen)};
+  GroundEstimate out{dem, std_dev, std::vector<CellGround>(dem.values.size(), CellGround::kSeen)};
   const std::vector<int> count = PointsPerCell(ground, dem);
   // The nearest cell with data, and how far it is.
   cv::Mat no_data(dem.rows, dem.cols, CV_8U);
@@ -132,10 +129,10 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
     for (int c = 0; c < dem.cols; ++c) {
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
       if (!no_data.at<uint8_t>(r, c)) {
-        out.kind[cell] = count[cell] > 0 ? GroundEstimate::kSeen : GroundEstimate::kUnseen;
+        out.kind[cell] = count[cell] > 0 ? CellGround::kSeen : CellGround::kUnseen;
         continue;
       }
-      out.kind[cell] = GroundEstimate::kNoData;
+      out.kind[cell] = CellGround::kEstimated;
       // The nearest cell's slope carried on, as kriging's drift carries it into the cells it
       // reaches; the room is for the turn it may take.
       const cv::Point from = cell_of_label[label.at<int>(r, c)];
@@ -169,9 +166,8 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
   const std::vector<int> count = PointsPerCell(ground, dem);
   for (size_t i = 0; i < ground.positions.size(); ++i) {
     const Eigen::Vector3d& p = ground.positions[i];
-    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / dem.cell_m));
-    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / dem.cell_m));
-    if (c < 0 || r < 0 || c >= dem.cols || r >= dem.rows) continue;
+    int r = 0, c = 0;
+    if (!dem.CellOf(p.x(), p.y(), &r, &c)) continue;
     const size_t cell = static_cast<size_t>(r) * dem.cols + c;
     const double surface = dem.Interpolate(p.x(), p.y());
     if (!std::isfinite(surface)) continue;

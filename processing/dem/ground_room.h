@@ -12,11 +12,11 @@
 //    taken as two standard deviations. It is what matters in cells nobody saw (no ground
 //    point in them), and at the centre of a cell seen at one corner. The lines of sight above
 //    (free_space.h) have already taken the DEM down to where the ground can be.
-#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/options.h"
+#include "processing/dem/cell_ground.h"
 #include "processing/dem/kriging.h"
 #include "processing/io/raster.h"
 
@@ -46,9 +46,8 @@ struct GroundRoomResult {
 // of sight over it (ceiling: the per-cell ceilings of free_space.h, or none), and a std of the
 // room the seen ground's turn near that cell leaves over the distance, as above.
 struct GroundEstimate {
-  enum Kind : uint8_t { kSeen = 0, kUnseen = 1, kNoData = 2 };
   Raster height, std;
-  std::vector<uint8_t> kind;  // per cell
+  std::vector<CellGround> kind;  // per cell
 };
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem, const Raster& std,
                                  const Raster* ceiling, const GroundRoomOptions& options);

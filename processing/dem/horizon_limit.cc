@@ -92,9 +92,8 @@ std::vector<Setter> SettersOf(const std::vector<Eigen::Vector3d>& points,
       setter[i] = Setter::kGround;
       continue;
     }
-    const int col = static_cast<int>(std::floor((points[i].x() - dem.min_x_m) / dem.cell_m));
-    const int row = static_cast<int>(std::floor((dem.max_y_m - points[i].y()) / dem.cell_m));
-    if (col < 0 || row < 0 || col >= dem.cols || row >= dem.rows) continue;
+    int row = 0, col = 0;
+    if (!dem.CellOf(points[i].x(), points[i].y(), &row, &col)) continue;
     const float z = dem.at(row, col);
     if (!Raster::IsNoData(z) && points[i].z() - z >= min_object_height_m)
       setter[i] = Setter::kObject;

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "core/options.h"
+#include "processing/dem/cell_ground.h"
 #include "processing/io/raster.h"
 
 namespace ts {
@@ -79,9 +80,6 @@ struct TerrainCorrection {
   double station_misfit_m = 0.0;           // DEM at the mark minus the mark's height (removed)
   std::vector<std::string> warnings;
 };
-
-// What is known of a cell's ground.
-enum class CellGround : uint8_t { kSeen = 0, kUnseen = 1, kEstimated = 2 };
 
 // station_mark: (x, y, z) of the mark in the DEM's frame. dem_std may be null (sigma 0).
 // ground: one per cell, or null (every cell with data seen); kEstimated cells have a height

@@ -30,6 +30,12 @@ struct Raster {
   double CellCentreX(int col) const { return min_x_m + (col + 0.5) * cell_m; }
   double CellCentreY(int row) const { return max_y_m - (row + 0.5) * cell_m; }
   static bool IsNoData(float v) { return !std::isfinite(v) || v == kNoData; }
+  // The cell holding (x, y); false outside the raster.
+  bool CellOf(double x_m, double y_m, int* row, int* col) const {
+    *col = static_cast<int>(std::floor((x_m - min_x_m) / cell_m));
+    *row = static_cast<int>(std::floor((max_y_m - y_m) / cell_m));
+    return *col >= 0 && *row >= 0 && *col < cols && *row < rows;
+  }
   // Bilinear interpolation between cell centres; NaN outside or next to nodata.
   double Interpolate(double x_m, double y_m) const;
   // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).

@@ -176,8 +176,7 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
                {"ceilings", w->ceilings.ceilings.size()},
                {"cells_lowered", lowered.cells_lowered},
                {"mean_lowering_m", lowered.mean_lowering_m},
-               {"max_lowering_m", lowered.max_lowering_m},
-               {"sweeps", lowered.sweeps}};
+               {"max_lowering_m", lowered.max_lowering_m}};
   return true;
 }
 
@@ -220,10 +219,8 @@ bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   // Every cell of the square: where the DEM has no value, the ground's best estimate and room.
   const GroundEstimate every_cell = EstimateEveryCell(
       GroundAndMark(*w), w->kriged.dem, w->kriged.std, &w->ceilings.per_cell, o.ground_room);
-  std::vector<CellGround> kinds(every_cell.kind.size());
-  for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<CellGround>(every_cell.kind[i]);
   w->terrain_correction = ComputeTerrainCorrection(every_cell.height, &every_cell.std, w->mark_dem,
-                                                   o.terrain_correction, &kinds);
+                                                   o.terrain_correction, &every_cell.kind);
   for (const std::string& warning : w->terrain_correction.warnings)
     s->warnings.push_back("terrain correction: " + warning);
   return true;

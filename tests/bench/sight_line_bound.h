@@ -37,9 +37,8 @@ inline SightLineViolations CheckSightLines(
     // Up to a cell short of the point: the cell it lies in holds it.
     for (double s = 0.5 * dem.cell_m; s < run - dem.cell_m; s += 0.5 * dem.cell_m) {
       const Eigen::Vector3d q = eye + d * (s / run);
-      const int col = static_cast<int>(std::floor((q.x() - dem.min_x_m) / dem.cell_m));
-      const int row = static_cast<int>(std::floor((dem.max_y_m - q.y()) / dem.cell_m));
-      if (col < 0 || row < 0 || col >= dem.cols || row >= dem.rows) continue;
+      int row = 0, col = 0;
+      if (!dem.CellOf(q.x(), q.y(), &row, &col)) continue;
       const double h = dem.Interpolate(q.x(), q.y());
       if (!std::isfinite(h)) continue;
       float& e = excess.at(row, col);

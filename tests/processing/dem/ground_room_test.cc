@@ -65,9 +65,9 @@ TEST(GroundRoom, EveryCellGetsAnEstimateCappedByTheLinesOfSight) {
   Raster ceiling = Raster::Make(0.0, 20.0, 1.0, 20, 20);
   ceiling.at(3, 10) = 0.05f;  // below the crease's 0.1 there
   const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &ceiling, {});
-  EXPECT_EQ(e.kind[static_cast<size_t>(3) * 20 + 10], GroundEstimate::kNoData);
-  EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 10], GroundEstimate::kUnseen);
-  EXPECT_EQ(e.kind[static_cast<size_t>(2) * 20 + 2], GroundEstimate::kSeen);
+  EXPECT_EQ(e.kind[static_cast<size_t>(3) * 20 + 10], CellGround::kEstimated);
+  EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 10], CellGround::kUnseen);
+  EXPECT_EQ(e.kind[static_cast<size_t>(2) * 20 + 2], CellGround::kSeen);
   EXPECT_FLOAT_EQ(e.height.at(3, 10), 0.05f);
   // A cell from its nearest neighbour with data, where the seen slopes turn by 0.4.
   EXPECT_NEAR(e.std.at(3, 10), std::hypot(0.01, 0.5 * 0.4 * 1.0), 0.02);
