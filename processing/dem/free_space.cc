@@ -27,13 +27,13 @@ struct FineCeilings {
         cell_m(grid.cell_m / ratio),
         min_x(grid.min_x_m),
         max_y(grid.max_y_m),
-        lowest(static_cast<size_t>(cols) * rows, {0.0, 0.0, kNone}) {}
-  void Add(double x, double y, double h) {
+        lowest(static_cast<size_t>(cols) * rows, {0.0, 0.0, kNone, 0.0}) {}
+  void Add(double x, double y, double h, double landing) {
     const int c = static_cast<int>(std::floor((x - min_x) / cell_m));
     const int r = static_cast<int>(std::floor((max_y - y) / cell_m));
     if (c < 0 || r < 0 || c >= cols || r >= rows) return;
     SightLineCeilings::Ceiling& e = lowest[static_cast<size_t>(r) * cols + c];
-    if (h < e.height) e = {x, y, h};
+    if (h < e.height) e = {x, y, h, landing};
   }
   void Merge(const FineCeilings& other) {
     for (size_t i = 0; i < lowest.size(); ++i)
@@ -70,7 +70,7 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
       0.5 * step_m + std::ceil(std::max(0.0, from - 0.5 * step_m) / step_m) * step_m;
   for (double s = first; s < to; s += step_m) {
     const Eigen::Vector3d q = line.camera + d * (s / run);
-    fine->Add(q.x(), q.y(), q.z());
+    fine->Add(q.x(), q.y(), q.z(), line.point.z());
   }
 }
 
@@ -130,13 +130,16 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
   SightLineCeilings out;
   out.per_cell = Raster::Make(grid.min_x_m, grid.max_y_m, grid.cell_m, grid.cols, grid.rows);
   out.per_cell.crs_wkt = grid.crs_wkt;
+  out.landing_per_cell = out.per_cell;
   for (int r = 0; r < fine.rows; ++r)
     for (int c = 0; c < fine.cols; ++c) {
       const SightLineCeilings::Ceiling& e = fine.lowest[static_cast<size_t>(r) * fine.cols + c];
       if (e.height == kNone) continue;
       out.ceilings.push_back(e);
       float& cell = out.per_cell.at(r / ratio, c / ratio);
-      if (Raster::IsNoData(cell) || e.height < cell) cell = static_cast<float>(e.height);
+      if (!Raster::IsNoData(cell) && cell <= e.height) continue;
+      cell = static_cast<float>(e.height);
+      out.landing_per_cell.at(r / ratio, c / ratio) = static_cast<float>(e.landing);
     }
   return out;
 }

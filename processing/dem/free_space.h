@@ -17,7 +17,9 @@
 // lines do not reach are untouched.
 //
 // Per cell, the lowest line over its square is also kept: the highest the ground of a cell
-// can be (products/dem_ceiling.tif; ground_room.h caps the cells without data by it).
+// can be (products/dem_ceiling.tif; ground_room.h caps the cells without data by it), and the
+// height of the point it went to. Over ground hidden behind a brow, the lowest line grazes
+// the brow and lands on the first ground seen past the hidden stretch (ground_room.h).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -56,9 +58,11 @@ struct SightLine {
 struct SightLineCeilings {
   struct Ceiling {
     double x = 0.0, y = 0.0, height = 0.0;
+    double landing = 0.0;  // the height of the point the line went to
   };
   std::vector<Ceiling> ceilings;  // one per ceiling_cell_m square a line passed over
   Raster per_cell;                // the lowest line over each DEM cell's square (nodata: none)
+  Raster landing_per_cell;        // where that lowest line landed: the first ground seen past
 };
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,

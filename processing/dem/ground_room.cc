@@ -103,10 +103,23 @@ cv::Mat SeenSlopeChange(const Raster& dem, const std::vector<int>& count, double
   return change;
 }
 
+// The std of ground nobody saw under the lines of sight. Behind a brow, the lowest line over
+// it grazes the brow and lands on the first ground seen past the hidden stretch (a terrace's
+// lower tread, a gully's far wall): the ground there plausibly lies no lower than that
+// landing, and kriging has bridged it from the brow. The std is the RMS distance from the DEM
+// to ground anywhere in the room below it down to the landing ((v - landing) / sqrt(3)); the
+// room above is the seen slopes' turn.
+double ShadowStd(double value, const SightLineCeilings* sight, int r, int c) {
+  if (!sight || sight->landing_per_cell.values.empty()) return 0.0;
+  const float landing = sight->landing_per_cell.at(r, c);
+  if (Raster::IsNoData(landing)) return 0.0;
+  return std::max(0.0, value - landing) / std::sqrt(3.0);
+}
+
 }  // namespace
 
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
-                                 const Raster& std_dev, const Raster* ceiling,
+                                 const Raster& std_dev, const SightLineCeilings* sight,
                                  const GroundRoomOptions& o) {
   GroundEstimate out{dem, std_dev, std::vector<CellGround>(dem.values.size(), CellGround::kSeen)};
   const std::vector<int> count = PointsPerCell(ground, dem);
@@ -139,11 +152,12 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
       const Eigen::Vector2d slope = GradientAt(dem, from.y, from.x);
       double z =
           dem.at(from.y, from.x) + slope.dot(Eigen::Vector2d(c - from.x, from.y - r)) * dem.cell_m;
-      if (ceiling && !Raster::IsNoData(ceiling->at(r, c)))
-        z = std::min(z, double(ceiling->at(r, c)));
+      if (sight && !Raster::IsNoData(sight->per_cell.at(r, c)))
+        z = std::min(z, double(sight->per_cell.at(r, c)));
       const float s0 = std_dev.at(from.y, from.x);
       const double room =
-          0.5 * turn.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m;
+          std::max(0.5 * turn.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m,
+                   ShadowStd(z, sight, r, c));
       out.height.at(r, c) = static_cast<float>(z);
       out.std.at(r, c) = static_cast<float>(std::hypot(Raster::IsNoData(s0) ? 0.0 : s0, room));
     }
@@ -151,7 +165,8 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
 }
 
 GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster& dem,
-                                      const GroundRoomOptions& o, Raster* std_dev) {
+                                      const SightLineCeilings* sight, const GroundRoomOptions& o,
+                                      Raster* std_dev) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("GroundRoomOptions: " + why);
   if (std_dev->rows != dem.rows || std_dev->cols != dem.cols)
@@ -183,7 +198,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       if (Raster::IsNoData(dem.at(r, c)) || Raster::IsNoData(s)) continue;
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
       // The centre of a cell seen at one corner is as unseen as ground that far from a point.
-      const double turn_room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
+      double room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
       double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;
@@ -191,10 +206,10 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
         departures.push_back(departure);
       } else {
         ++result.unseen_cells;
-        widening.push_back(turn_room);
+        room = std::max(room, ShadowStd(dem.at(r, c), sight, r, c));
+        widening.push_back(room);
       }
-      s = static_cast<float>(
-          std::sqrt(double(s) * s + departure * departure + turn_room * turn_room));
+      s = static_cast<float>(std::sqrt(double(s) * s + departure * departure + room * room));
     }
   result.median_unseen_widening_m = Median(widening);
   result.median_seen_departure_m = Median(departures);

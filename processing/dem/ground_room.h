@@ -12,11 +12,17 @@
 //    taken as two standard deviations. It is what matters in cells nobody saw (no ground
 //    point in them), and at the centre of a cell seen at one corner. The lines of sight above
 //    (free_space.h) have already taken the DEM down to where the ground can be.
+//  - in a cell nobody saw behind a brow, the room below: the lowest line of sight over it
+//    grazed the brow and landed on the first ground seen past (a terrace's lower tread, a
+//    dike's far field, a gully's far wall), and kriging bridged the DEM across. The ground
+//    plausibly lies anywhere down to that landing; the RMS distance to it is taken, if it
+//    exceeds the turn's room (the two bound the same unknown).
 #include <string>
 #include <vector>
 
 #include "core/options.h"
 #include "processing/dem/cell_ground.h"
+#include "processing/dem/free_space.h"
 #include "processing/dem/kriging.h"
 #include "processing/io/raster.h"
 
@@ -43,18 +49,20 @@ struct GroundRoomResult {
 
 // Every cell of the square for the terrain correction, also those without data: each gets the
 // height of the nearest cell with data carried on along that cell's slope, capped by the lines
-// of sight over it (ceiling: the per-cell ceilings of free_space.h, or none), and a std of the
-// room the seen ground's turn near that cell leaves over the distance, as above.
+// of sight over it (the per-cell ceilings of free_space.h, or none), and a std of the room the
+// seen ground's turn near that cell leaves over the distance, or below it down to the
+// landing of that line, as above.
 struct GroundEstimate {
   Raster height, std;
   std::vector<CellGround> kind;  // per cell
 };
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem, const Raster& std,
-                                 const Raster* ceiling, const GroundRoomOptions& options);
+                                 const SightLineCeilings* sight, const GroundRoomOptions& options);
 
-// ground: the ground points kriged, in the DEM's frame. Widens `std` (the DEM's grid) where
-// `dem` has data.
+// ground: the ground points kriged, in the DEM's frame; sight: the lines of sight over the
+// DEM's grid (or none). Widens `std` (the DEM's grid) where `dem` has data.
 GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster& dem,
+                                      const SightLineCeilings* sight,
                                       const GroundRoomOptions& options, Raster* std);
 
 }  // namespace ts

@@ -1,6 +1,7 @@
 #include "processing/dem/kriging.h"
 
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -88,6 +89,19 @@ bool BeyondTheEdge(const std::vector<Eigen::Vector3d>& points, const std::vector
   for (const Candidate& k : near)
     angles.push_back(std::atan2(points[k.index].y() - y, points[k.index].x() - x));
   return LargestAngularGap(std::move(angles)) > M_PI;
+}
+
+// The points' heights less the least-squares plane through them all.
+std::vector<Eigen::Vector3d> ResidualsFromPlane(std::vector<Eigen::Vector3d> points) {
+  if (points.size() < 3) return points;
+  Eigen::MatrixXd a(points.size(), 3);
+  Eigen::VectorXd z(points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    a.row(i) << 1.0, points[i].x(), points[i].y(), z[i] = points[i].z();
+  const Eigen::Vector3d plane = a.colPivHouseholderQr().solve(z);
+  if (!plane.allFinite()) return points;  // collinear points: no plane to take out
+  for (Eigen::Vector3d& p : points) p.z() -= plane[0] + plane[1] * p.x() + plane[2] * p.y();
+  return points;
 }
 
 }  // namespace
@@ -179,7 +193,10 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   KrigingResult result;
   const KrigingPoints thinned = ThinPoints(points, o.thin_cell_m);
   result.points_used = thinned.positions.size();
-  result.experimental = ComputeExperimentalVariogram(thinned.positions, o.variogram);
+  // With a drift, the variogram is the residual's (universal kriging): the trend's own rise,
+  // a slope's s^2 h^2 / 2, is what the drift takes out; left in, it overstates the std.
+  result.experimental = ComputeExperimentalVariogram(
+      o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram);
   result.model = FitVariogram(result.experimental);
   result.dem = grid;
   KrigeOnto(thinned, result.model, o, &result.dem, &result.std);

@@ -190,8 +190,8 @@ KrigingPoints GroundAndMark(const StationWork& w) {
 }
 
 bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s) {
-  const GroundRoomResult room =
-      WidenStdByGroundRoom(GroundAndMark(*w), w->kriged.dem, o.ground_room, &w->kriged.std);
+  const GroundRoomResult room = WidenStdByGroundRoom(GroundAndMark(*w), w->kriged.dem, &w->ceilings,
+                                                     o.ground_room, &w->kriged.std);
   s->counts = {{"seen_cells", room.seen_cells},
                {"unseen_cells", room.unseen_cells},
                {"median_unseen_room_m", room.median_unseen_widening_m},
@@ -217,8 +217,8 @@ bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
 
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   // Every cell of the square: where the DEM has no value, the ground's best estimate and room.
-  const GroundEstimate every_cell = EstimateEveryCell(
-      GroundAndMark(*w), w->kriged.dem, w->kriged.std, &w->ceilings.per_cell, o.ground_room);
+  const GroundEstimate every_cell = EstimateEveryCell(GroundAndMark(*w), w->kriged.dem,
+                                                      w->kriged.std, &w->ceilings, o.ground_room);
   w->terrain_correction = ComputeTerrainCorrection(every_cell.height, &every_cell.std, w->mark_dem,
                                                    o.terrain_correction, &every_cell.kind);
   for (const std::string& warning : w->terrain_correction.warnings)

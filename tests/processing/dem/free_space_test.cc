@@ -13,11 +13,11 @@ namespace {
 
 constexpr double kEye = 1.5;
 
-std::vector<SightLine> FieldLines(double range_sigma_m) {
+std::vector<SightLine> FieldLines(double range_sigma_m, double field_z = 0.0) {
   std::vector<SightLine> lines;
   for (double y = -2.0; y <= 2.0 + 1e-9; y += 0.25)
     for (double x = 20.0; x <= 30.0 + 1e-9; x += 0.25)
-      lines.push_back({{0.0, 0.0, kEye}, {x, y, 0.0}, range_sigma_m});
+      lines.push_back({{0.0, 0.0, kEye}, {x, y, field_z}, range_sigma_m});
   return lines;
 }
 
@@ -41,6 +41,22 @@ TEST(FreeSpace, TheCeilingOfACellIsTheLowestLineOverIt) {
   }
   // No line reaches y = 8.
   EXPECT_TRUE(Raster::IsNoData(c.per_cell.at(2, 10)));
+}
+
+// Over the hollow, the lowest line lands on the first of the field seen past it: the ground
+// there is the lowest the hidden ground plausibly is (ground_room.h).
+TEST(FreeSpace, TheLowestLineOverACellLandsOnTheFieldPastIt) {
+  const SightLineCeilings c = FindSightLineCeilings(FieldLines(0.0, -0.7), Level(0.0), {});
+  int landed = 0;
+  for (int r = 0; r < c.per_cell.rows; ++r)
+    for (int col = 0; col < c.per_cell.cols; ++col) {
+      const bool line = !Raster::IsNoData(c.per_cell.at(r, col));
+      ASSERT_EQ(line, !Raster::IsNoData(c.landing_per_cell.at(r, col))) << r << " " << col;
+      if (!line) continue;
+      EXPECT_FLOAT_EQ(c.landing_per_cell.at(r, col), -0.7f);
+      ++landed;
+    }
+  EXPECT_GT(landed, 2 * 28);  // the rows either side of y = 0, all the 28 m of the lines
 }
 
 TEST(FreeSpace, ALineStopsItsRangeSigmasShortOfItsPoint) {

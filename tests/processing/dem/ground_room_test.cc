@@ -36,7 +36,8 @@ struct Site {
 
 TEST(GroundRoom, UnseenCellsGetTheSeenSlopesTurnOverTheirDistance) {
   Site site;
-  const GroundRoomResult result = WidenStdByGroundRoom(site.ground, site.dem, {}, &site.std);
+  const GroundRoomResult result =
+      WidenStdByGroundRoom(site.ground, site.dem, nullptr, {}, &site.std);
   EXPECT_EQ(result.unseen_cells, 36);
   // The gap's centre cell (x, y = 9.5, row 10 is y 9.5): 2.375 m from the nearest point.
   const double d = 9.5 - 6.875;
@@ -52,7 +53,7 @@ TEST(GroundRoom, ASeenCellAcrossAStepGetsTheStepsDeparture) {
     Eigen::Vector3d& p = site.ground.positions[i];
     if (p.x() >= 2.5 && p.x() < 3.0 && p.y() >= 17.0 && p.y() < 18.0) p.z() += 1.0;
   }
-  WidenStdByGroundRoom(site.ground, site.dem, {}, &site.std);
+  WidenStdByGroundRoom(site.ground, site.dem, nullptr, {}, &site.std);
   // Half of its points 1 m off: an RMS departure of sqrt(1/2).
   EXPECT_NEAR(site.std.at(2, 2), std::hypot(0.01, std::sqrt(0.5)), 0.01);
 }
@@ -62,15 +63,39 @@ TEST(GroundRoom, EveryCellGetsAnEstimateCappedByTheLinesOfSight) {
   // A cell on the crease (x 10.5 m, y 16.5 m) without a DEM value, a line of sight 0.05 m up.
   site.dem.at(3, 10) = Raster::kNoData;
   site.std.at(3, 10) = Raster::kNoData;
-  Raster ceiling = Raster::Make(0.0, 20.0, 1.0, 20, 20);
-  ceiling.at(3, 10) = 0.05f;  // below the crease's 0.1 there
-  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &ceiling, {});
+  SightLineCeilings sight;
+  sight.per_cell = sight.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  sight.per_cell.at(3, 10) = 0.05f;  // below the crease's 0.1 there
+  sight.landing_per_cell.at(3, 10) = 0.0f;
+  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &sight, {});
   EXPECT_EQ(e.kind[static_cast<size_t>(3) * 20 + 10], CellGround::kEstimated);
   EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 10], CellGround::kUnseen);
   EXPECT_EQ(e.kind[static_cast<size_t>(2) * 20 + 2], CellGround::kSeen);
   EXPECT_FLOAT_EQ(e.height.at(3, 10), 0.05f);
   // A cell from its nearest neighbour with data, where the seen slopes turn by 0.4.
   EXPECT_NEAR(e.std.at(3, 10), std::hypot(0.01, 0.5 * 0.4 * 1.0), 0.02);
+}
+
+// Behind a brow: the lowest line over the gap's centre cell grazed the brow and landed 1.2 m
+// below the DEM there. The ground may lie anywhere down to that landing: the std is the RMS
+// distance to it, 1.2 / sqrt(3), which exceeds the seen slopes' turn room (0.525 m). A seen
+// cell under the same lines keeps kriging's std: its ground was seen.
+TEST(GroundRoom, GroundHiddenBehindABrowMayLieDownToWhereTheLowestLineLanded) {
+  Site site;
+  SightLineCeilings sight;
+  sight.per_cell = sight.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  for (int r : {10, 2}) {
+    sight.per_cell.at(r, r == 10 ? 9 : 2) = site.dem.at(r, r == 10 ? 9 : 2) + 0.3f;
+    sight.landing_per_cell.at(r, r == 10 ? 9 : 2) = site.dem.at(r, r == 10 ? 9 : 2) - 1.2f;
+  }
+  WidenStdByGroundRoom(site.ground, site.dem, &sight, {}, &site.std);
+  EXPECT_NEAR(site.std.at(10, 9), std::hypot(0.01, 1.2 / std::sqrt(3.0)), 1e-4);
+  EXPECT_NEAR(site.std.at(2, 2), 0.01, 1e-4);
+  // A landing above the DEM leaves no room below: the turn's room stays.
+  Site other;
+  sight.landing_per_cell.at(10, 9) = other.dem.at(10, 9) + 0.5f;
+  WidenStdByGroundRoom(other.ground, other.dem, &sight, {}, &other.std);
+  EXPECT_NEAR(other.std.at(10, 9), std::hypot(0.01, 0.5 * 0.4 * (9.5 - 6.875)), 0.06);
 }
 
 }  // namespace

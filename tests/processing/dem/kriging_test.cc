@@ -195,6 +195,35 @@ TEST(Kriging, FittedKrigingOfANoisySurfaceIsAccurateAndHonest) {
   EXPECT_LT(k.points_used, points.size());
 }
 
+// Universal kriging takes its variogram from the residuals of the drift: on a plane rising
+// 30 % with 5 cm of noise, the sill is the noise's variance (0.0025 m^2), not the slope's rise
+// (0.09 h^2 / 2, 18 m^2 at 20 m), and the std is of the size of the true error, not metres.
+TEST(Kriging, TheVariogramOfADriftIsTheResidualsNotTheSlope) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-20, 20);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = u(rng), y = u(rng);
+    points.emplace_back(x, y, 0.3 * x - 0.1 * y + noise(rng));
+  }
+  const KrigingResult k =
+      KrigeDem(Alike(points), Raster::Make(-15, 15, 1.0, 30, 30), KrigingOptions{});
+  EXPECT_LT(k.model.Sill(), 0.0025 * 2.0);
+  EXPECT_GT(k.model.Sill(), 0.0025 * 0.5);
+  double sum2 = 0, sum_var = 0;
+  for (int r = 0; r < 30; ++r)
+    for (int c = 0; c < 30; ++c) {
+      const double e = k.dem.at(r, c) - (0.3 * k.dem.CellCentreX(c) - 0.1 * k.dem.CellCentreY(r));
+      sum2 += e * e, sum_var += k.std.at(r, c) * k.std.at(r, c);
+    }
+  EXPECT_LT(std::sqrt(sum_var / sum2), 3.0);
+  KrigingOptions ordinary;
+  ordinary.linear_drift = false;  // ordinary kriging has no drift: the slope is its variogram
+  EXPECT_GT(KrigeDem(Alike(points), Raster::Make(-15, 15, 1.0, 30, 30), ordinary).model.Sill(),
+            1.0);
+}
+
 TEST(Kriging, RejectsBadOptions) {
   KrigingOptions o;
   o.neighbours = 0;
