@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 
+#include "processing/cloud/grid_index.h"
 #include "processing/cloud/ground_filter.h"
 #include "processing/dem/dem_evaluation.h"
 #include "processing/gravity/terrain_correction.h"
@@ -59,6 +60,16 @@ void RunGroundFilter(const GroundFilterArgs& args) {
   if (!args.options.Check(&why)) throw CommandError("ground-filter: " + why);
   Result<std::vector<Eigen::Vector3d>> points = ReadPointCloudXyz(args.in);
   if (!points) throw CommandError(points.error());
+  // The filter grids the cloud's extent: a cloud whose points lie kilometres apart (or a
+  // coordinate of 3e38) would need more cells than memory holds.
+  constexpr double kMaxCells = 50e6;  // an airborne tile of 7 x 7 km at 1 m
+  const double cells = GridIndex::CellsFor(*points, args.options.cell_m);
+  if (cells == 0.0) throw CommandError(args.in + ": no point with finite coordinates");
+  if (cells > kMaxCells)
+    throw CommandError(args.in + ": the points lie too far apart for the ground filter's grid " +
+                       "(more than " + OptionNumberText(kMaxCells) + " cells of " +
+                       OptionNumberText(args.options.cell_m) +
+                       " m): corrupt coordinates, or a cloud to cut into tiles");
   const GroundFilterResult r = FilterGround(*points, args.options);
   std::vector<Eigen::Vector3d> ground;
   for (size_t i = 0; i < points->size(); ++i)

@@ -5,15 +5,37 @@
 
 namespace ts {
 
-GridIndex::GridIndex(const std::vector<Eigen::Vector3d>& points, double cell_m) : cell_m_(cell_m) {
+namespace {
+
+struct Bounds {
   double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
   double max_x = -min_x, max_y = -min_x;
+  bool Empty() const { return !(max_x >= min_x); }
+};
+
+Bounds BoundsOf(const std::vector<Eigen::Vector3d>& points) {
+  Bounds b;
   for (const Eigen::Vector3d& p : points) {
     if (!p.allFinite()) continue;
-    min_x = std::min(min_x, p.x()), max_x = std::max(max_x, p.x());
-    min_y = std::min(min_y, p.y()), max_y = std::max(max_y, p.y());
+    b.min_x = std::min(b.min_x, p.x()), b.max_x = std::max(b.max_x, p.x());
+    b.min_y = std::min(b.min_y, p.y()), b.max_y = std::max(b.max_y, p.y());
   }
-  if (!(max_x >= min_x)) {  // no finite point
+  return b;
+}
+
+}  // namespace
+
+double GridIndex::CellsFor(const std::vector<Eigen::Vector3d>& points, double cell_m) {
+  const Bounds b = BoundsOf(points);
+  if (b.Empty()) return 0.0;
+  return (std::floor((b.max_x - b.min_x) / cell_m) + 1) *
+         (std::floor((b.max_y - b.min_y) / cell_m) + 1);
+}
+
+GridIndex::GridIndex(const std::vector<Eigen::Vector3d>& points, double cell_m) : cell_m_(cell_m) {
+  const Bounds b = BoundsOf(points);
+  const double min_x = b.min_x, min_y = b.min_y, max_x = b.max_x, max_y = b.max_y;
+  if (b.Empty()) {  // no finite point
     start_.assign(1, 0);
     return;
   }

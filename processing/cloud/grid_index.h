@@ -11,6 +11,8 @@ class GridIndex {
  public:
   // Bounds from the points themselves; cell_m > 0. Non-finite points are left out.
   GridIndex(const std::vector<Eigen::Vector3d>& points, double cell_m);
+  // The cells such a grid would have (0 without a finite point), counted before allocating.
+  static double CellsFor(const std::vector<Eigen::Vector3d>& points, double cell_m);
 
   int cols() const { return cols_; }
   int rows() const { return rows_; }

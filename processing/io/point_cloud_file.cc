@@ -6,8 +6,11 @@
 #include <pcl/io/ply_io.h>
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "processing/io/atomic_file.h"
 
@@ -52,19 +55,102 @@ double FieldValue(const uint8_t* p, uint8_t datatype) {
   }
 }
 
+// Bytes of one value of a PLY property type (0: unknown).
+size_t PlyTypeBytes(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" ||
+      type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// What a cloud file's header declares: its points and the fewest bytes the body needs for
+// them (compressed bodies: 0, unknown).
+struct DeclaredCloud {
+  double points = 0.0;
+  double min_body_bytes = 0.0;
+  size_t header_bytes = 0;
+};
+
+// The header, read line by line up to its end, before any parser reserves memory for what it
+// declares (PCL's readers trust the count: a PLY declaring 4e9 vertices, a PCD with none).
+Result<DeclaredCloud> ReadDeclaredCloud(const std::string& path, bool ply) {
+  std::ifstream in(path, std::ios::binary);
+  DeclaredCloud d;
+  std::string line, format;
+  double record_bytes = 0.0, fields = 0.0, width = 1.0, height = 1.0;
+  bool in_vertex = false, ended = false, points_given = false;
+  for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
+    d.header_bytes += line.size() + 1;
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (ply) {
+      if (key == "format") words >> format;
+      if (key == "element") {
+        std::string name;
+        words >> name;
+        in_vertex = name == "vertex";
+        if (in_vertex) words >> d.points;
+      }
+      if (key == "property" && in_vertex) {
+        std::string type;
+        words >> type;
+        fields += 1.0;
+        record_bytes += type == "list" ? 1.0 : static_cast<double>(PlyTypeBytes(type));
+      }
+      if (key == "end_header") ended = true;
+    } else {
+      if (key == "SIZE" || key == "COUNT") {
+        std::vector<double> v;
+        for (double x; words >> x;) v.push_back(x);
+        if (key == "SIZE") record_bytes = 0.0, fields = static_cast<double>(v.size());
+        for (size_t i = 0; i < v.size(); ++i) record_bytes += key == "SIZE" ? v[i] : 0.0;
+      }
+      if (key == "WIDTH") words >> width;
+      if (key == "HEIGHT") words >> height;
+      if (key == "POINTS") words >> d.points, points_given = true;
+      if (key == "DATA") words >> format, ended = true;
+    }
+    if (!words && !words.eof()) return Error{path + ": header line '" + line + "' unreadable"};
+    if (ended) break;
+  }
+  if (!ended) return Error{path + ": no complete " + (ply ? "PLY" : "PCD") + " header"};
+  if (!ply && !points_given) d.points = width * height;
+  if (!(d.points >= 0.0)) return Error{path + ": header declares a negative number of points"};
+  const bool ascii = format == "ascii";
+  if (format != "binary_compressed")
+    d.min_body_bytes = d.points * (ascii ? 2.0 * fields : record_bytes);
+  return d;
+}
+
 }  // namespace
 
 Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path) {
   pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
   if (!std::filesystem::is_regular_file(path)) return Error{path + ": no such file"};
+  const bool ply = EndsWith(path, ".ply");
+  if (!ply && !EndsWith(path, ".pcd"))
+    return Error{path + ": not a point cloud file (expected .pcd or .ply)"};
+  const uintmax_t bytes = std::filesystem::file_size(path);
+  if (bytes == 0) return Error{path + ": empty file"};
+  const Result<DeclaredCloud> declared = ReadDeclaredCloud(path, ply);
+  if (!declared) return Error{declared.error()};
+  if (declared->points > kMaxCloudPoints)
+    return Error{path + ": header declares " + std::to_string(std::llround(declared->points)) +
+                 " points, more than the " + std::to_string(std::llround(kMaxCloudPoints)) +
+                 " a cloud may have here"};
+  if (declared->header_bytes + declared->min_body_bytes > static_cast<double>(bytes))
+    return Error{path + ": truncated (fewer bytes than its header's " +
+                 std::to_string(std::llround(declared->points)) + " points need)"};
   pcl::PCLPointCloud2 cloud;
   int status = -1;
-  if (EndsWith(path, ".pcd")) {
+  if (!ply) {
     status = pcl::io::loadPCDFile(path, cloud);
-  } else if (EndsWith(path, ".ply")) {
-    status = pcl::io::loadPLYFile(path, cloud);
   } else {
-    return Error{path + ": not a point cloud file (expected .pcd or .ply)"};
+    status = pcl::io::loadPLYFile(path, cloud);
   }
   if (status < 0) return Error{path + ": unreadable point cloud (PCL could not parse it)"};
   const pcl::PCLPointField* xyz[3] = {nullptr, nullptr, nullptr};

@@ -11,7 +11,13 @@
 
 namespace ts {
 
-// The x, y, z of every point of a .pcd or .ply file (by extension). Errors name the file.
+// The most points a cloud file may declare: a station holds about 0.3 million, an airborne
+// lidar tile tens of millions; more is a corrupt header, refused before memory is reserved.
+constexpr double kMaxCloudPoints = 200e6;
+
+// The x, y, z of every point of a .pcd or .ply file (by extension). Errors name the file: an
+// empty file, a header that does not end or declares more points than kMaxCloudPoints or than
+// the file's bytes can hold, a body PCL cannot parse, a missing x, y or z.
 Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path);
 
 // A per-point attribute column of a PLY file: exactly one of the vectors is filled, with

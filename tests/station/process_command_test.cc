@@ -87,5 +87,28 @@ TEST(GroundFilterCommand, WritesTheGroundPointsUnchanged) {
       << huge.out;
 }
 
+// Clouds a reader can parse but the filter cannot use: one clear error naming the file, never
+// "0 of 100 points are ground" or an allocation failure.
+TEST(GroundFilterCommand, CloudsWithoutAUsableExtentGetOneClearError) {
+  testing::TempDir dir;
+  auto run = [&](const std::string& name, const std::vector<Eigen::Vector3d>& points) {
+    EXPECT_TRUE(WritePly(dir / name, points));
+    return RunCommand(Exe() + " ground-filter " + (dir / name) + " --out " + (dir / "g.ply") +
+                      " 2>&1");
+  };
+  const double nan = std::nan("");
+  const auto no_finite = run("nan.ply", std::vector<Eigen::Vector3d>(100, {nan, nan, nan}));
+  EXPECT_EQ(no_finite.exit_code, 1);
+  EXPECT_NE(no_finite.out.find("nan.ply: no point with finite coordinates"), std::string::npos)
+      << no_finite.out;
+  for (const double far : {1e7, 3e38}) {
+    const auto spread = run("far.ply", {{0, 0, 0}, {far, -far, 1}, {5, 5, 0}});
+    EXPECT_EQ(spread.exit_code, 1) << far;
+    EXPECT_NE(spread.out.find("far.ply: the points lie too far apart"), std::string::npos)
+        << spread.out;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "g.ply"));
+}
+
 }  // namespace
 }  // namespace ts

@@ -43,5 +43,35 @@ TEST(PointCloudFile, BadInputNamesTheFile) {
   EXPECT_FALSE(WritePly(dir / "b.ply", one, {wrong}));
 }
 
+// A header is read and checked before PCL reserves anything for what it declares: PCL's
+// readers crashed on an empty .pcd and asked for 96 GB for a PLY declaring 4e9 vertices.
+TEST(PointCloudFile, CorruptHeadersAreRefusedBeforeAnythingIsReserved) {
+  testing::TempDir dir;
+  auto error_of = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name, std::ios::binary) << text;
+    const auto r = ReadPointCloudXyz(dir / name);
+    EXPECT_FALSE(r) << name;
+    return r ? std::string() : r.error();
+  };
+  const std::string ply_header = "ply\nformat binary_little_endian 1.0\nelement vertex ";
+  const std::string xyz = "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  EXPECT_EQ(error_of("empty.pcd", ""), dir / "empty.pcd" + ": empty file");
+  EXPECT_NE(
+      error_of("huge.ply", ply_header + "4000000000" + xyz).find("declares 4000000000 points"),
+      std::string::npos);
+  // 100 points of 12 bytes declared, 3 present.
+  EXPECT_NE(error_of("short.ply", ply_header + "100" + xyz + std::string(36, '\0'))
+                .find("truncated (fewer bytes than its header's 100 points need)"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("open.ply", ply_header + "3\nproperty float x\n").find("no complete PLY header"),
+      std::string::npos);
+  const std::string pcd =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1000000\n"
+      "HEIGHT 1\nPOINTS 1000000\nDATA binary\n";
+  EXPECT_NE(error_of("short.pcd", pcd + std::string(12, '\0')).find("truncated"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace ts
