@@ -26,6 +26,14 @@ struct TerrainCorrectionArgs {
   bool json = false;
 };
 
+// A station's products are `process`'s (its terrain correction counts the ground nobody saw,
+// which a bare DEM cannot say): a DEM inside STATION/products/ is not written beside.
+bool InStationProducts(const std::string& dem_file) {
+  const std::filesystem::path dir = std::filesystem::absolute(dem_file).parent_path();
+  return dir.filename() == "products" &&
+         std::filesystem::exists(dir.parent_path() / "station.json");
+}
+
 void Run(const TerrainCorrectionArgs& args) {
   const DemInput in = LoadDemInput(args.input);
   const Raster& dem = in.dem;
@@ -36,6 +44,8 @@ void Run(const TerrainCorrectionArgs& args) {
     if (args.station_xy.size() != 2)
       throw CommandError(in.dem_file + ": a bare DEM needs --station X,Y (the mark's position)");
     mark.x() = args.station_xy[0], mark.y() = args.station_xy[1];
+    if (!mark.head<2>().allFinite() || std::isinf(args.station_z))
+      throw CommandError("terrain-correction: --station and --station-z must be finite numbers");
     mark.z() = std::isfinite(args.station_z) ? args.station_z : dem.Interpolate(mark.x(), mark.y());
     if (!std::isfinite(mark.z()))
       throw CommandError(in.dem_file + ": no height at the station " + std::to_string(mark.x()) +
@@ -51,10 +61,11 @@ void Run(const TerrainCorrectionArgs& args) {
   const nlohmann::json j = TerrainCorrectionToJson(tc, o, mark);
   const std::string out =
       !args.out.empty() ? args.out
-      : in.station_dir
-          ? args.input + "/products/terrain_correction.json"
+      : in.station_dir || InStationProducts(in.dem_file)
+          ? std::string()
           : std::filesystem::path(in.dem_file).replace_filename("terrain_correction.json").string();
-  if (Status s = WriteFileAtomically(out, j.dump(2) + "\n"); !s) throw CommandError(s.error());
+  if (!out.empty())
+    if (Status s = WriteFileAtomically(out, j.dump(2) + "\n"); !s) throw CommandError(s.error());
   if (args.json) {
     std::printf("%s\n", j.dump().c_str());
     return;
@@ -62,7 +73,8 @@ void Run(const TerrainCorrectionArgs& args) {
   std::printf(
       "terrain correction %.4f +- %.4f mGal (density %.2f g/cm3, sensor %.2f m above the "
       "mark); %s\n",
-      tc.total_mgal, tc.sigma_mgal, args.density_g_cm3, o.sensor_height_m, out.c_str());
+      tc.total_mgal, tc.sigma_mgal, args.density_g_cm3, o.sensor_height_m,
+      out.empty() ? "not written into the station (give --out)" : out.c_str());
   for (const RingContribution& r : tc.rings)
     if (r.coverage > 0.0)
       std::printf(
@@ -88,7 +100,9 @@ void AddTerrainCorrectionCommand(CLI::App& app) {
   density << "density of the terrain (g/cm3, default " << args->density_g_cm3 << ")";
   t->add_option("--density", args->density_g_cm3, density.str());
   AddDeclaredOption(t, "--radius", args->options, "radius_m");
-  t->add_option("--out", args->out, "JSON file (default: terrain_correction.json beside the DEM)");
+  t->add_option("--out", args->out,
+                "JSON file (default: terrain_correction.json beside a bare DEM; none for a "
+                "station's, whose products are process's)");
   t->add_flag("--json", args->json, "print the result as JSON");
   t->callback([args] { Run(*args); });
 }

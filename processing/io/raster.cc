@@ -2,6 +2,7 @@
 
 #include <cpl_conv.h>
 #include <gdal_priv.h>
+#include <ogr_spatialref.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -102,6 +103,29 @@ Status WriteGeoTiff(const Raster& raster, const std::string& path) {
   return {};
 }
 
+namespace {
+
+// Heights and distances are metres everywhere here: a CRS in degrees or feet would be taken
+// for metres without a word.
+Status CheckMetricCrs(const std::string& path, const std::string& wkt) {
+  if (wkt.empty()) return {};
+  OGRSpatialReference srs;
+  if (srs.importFromWkt(wkt.c_str()) != OGRERR_NONE)
+    return Error{path + ": its coordinate reference system cannot be read"};
+  if (srs.IsGeographic())
+    return Error{path + ": its CRS (" + std::string(srs.GetName() ? srs.GetName() : "?") +
+                 ") is geographic, in degrees; reproject it into metres (gdalwarp -t_srs with a " +
+                 "projected CRS such as the UTM zone)"};
+  const char* unit = nullptr;
+  const double metres = srs.GetLinearUnits(&unit);
+  if (std::abs(metres - 1.0) > 1e-9)
+    return Error{path + ": its CRS's unit is " + std::string(unit ? unit : "?") +
+                 ", not metres; reproject it (gdalwarp -t_srs)"};
+  return {};
+}
+
+}  // namespace
+
 Result<Raster> ReadGeoTiff(const std::string& path) {
   RegisterGdalOnce();
   if (!std::filesystem::is_regular_file(path)) return Error{path + ": cannot read file"};
@@ -115,8 +139,15 @@ Result<Raster> ReadGeoTiff(const std::string& path) {
   if (t[2] != 0.0 || t[4] != 0.0) return Error{path + ": rotated rasters are not supported"};
   if (!(t[1] > 0.0) || std::abs(t[1] + t[5]) > 1e-9 * t[1])
     return Error{path + ": cells must be square and north-up"};
+  const double cells = static_cast<double>(ds->GetRasterXSize()) * ds->GetRasterYSize();
+  if (cells > kMaxRasterCells)
+    return Error{path + ": " + std::to_string(ds->GetRasterXSize()) + " x " +
+                 std::to_string(ds->GetRasterYSize()) + " cells, more than the " +
+                 std::to_string(static_cast<long long>(kMaxRasterCells)) +
+                 " a DEM here may have; crop it to the survey (gdal_translate -projwin)"};
   Raster r = Raster::Make(t[0], t[3], t[1], ds->GetRasterXSize(), ds->GetRasterYSize());
   if (const char* wkt = ds->GetProjectionRef(); wkt) r.crs_wkt = wkt;
+  if (Status metric = CheckMetricCrs(path, r.crs_wkt); !metric) return Error{metric.error()};
   GDALRasterBand* band = ds->GetRasterBand(1);
   if (band->RasterIO(GF_Read, 0, 0, r.cols, r.rows, r.values.data(), r.cols, r.rows, GDT_Float32, 0,
                      0) != CE_None)

@@ -47,7 +47,11 @@ struct Raster {
 // Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a
 // temporary name and renamed (atomic).
 Status WriteGeoTiff(const Raster& raster, const std::string& path);
-// Reads band 1 of any north-up raster GDAL can open, as float.
+// The most cells a raster read here may have: a station's DEM has 3600, a DEM of a survey
+// area 10 km square at 1 m 1e8 (400 MB as float).
+constexpr double kMaxRasterCells = 1e8;
+// Reads band 1 of any north-up raster GDAL can open, as float. Errors name the file: more
+// cells than kMaxRasterCells (checked before reading), a CRS not in metres.
 Result<Raster> ReadGeoTiff(const std::string& path);
 
 }  // namespace ts

@@ -1,7 +1,9 @@
 // `topostation terrain-correction` on a bare GeoTIFF DEM, through the real command line.
 #include <gtest/gtest.h>
 
+#include <ogr_spatialref.h>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "processing/gravity/prism.h"
@@ -57,6 +59,49 @@ TEST(TerrainCorrectionCommand, BadInputGivesOneClearError) {
             std::string::npos);
   EXPECT_NE(error_of(dir / "none.tif").find("none.tif"), std::string::npos);
   EXPECT_NE(error_of(dir.path().string()).find("products/dem.tif"), std::string::npos);
+  // A mark that is not a place: nan gave "nan +- nan mGal" with exit 0.
+  EXPECT_NE(error_of((dir / "d.tif") + " --station nan,nan").find("must be finite numbers"),
+            std::string::npos);
+  EXPECT_NE(error_of((dir / "d.tif") + " --station 5,5 --station-z inf").find("finite"),
+            std::string::npos);
+  // Degrees taken for metres: a DEM in EPSG:4326 is refused, naming the file and the cure.
+  Raster degrees = Raster::Make(10.0, 47.0, 1e-5, 10, 10, 5.0f);
+  OGRSpatialReference wgs84;
+  wgs84.importFromEPSG(4326);
+  char* wkt = nullptr;
+  wgs84.exportToWkt(&wkt);
+  degrees.crs_wkt = wkt;
+  CPLFree(wkt);
+  ASSERT_TRUE(WriteGeoTiff(degrees, dir / "geographic.tif"));
+  const std::string geographic = error_of((dir / "geographic.tif") + " --station 10,47");
+  EXPECT_NE(geographic.find("geographic.tif: its CRS (WGS 84) is geographic, in degrees"),
+            std::string::npos)
+      << geographic;
+}
+
+// Reading a station is not writing into it: its products/terrain_correction.json is process's
+// (with the ground nobody saw as one unknown), and a recomputation from the bare dem.tif
+// overwrote it.
+TEST(TerrainCorrectionCommand, AStationsOwnProductIsNeverOverwritten) {
+  testing::TempDir dir;
+  const std::filesystem::path products = dir.path() / "S" / "products";
+  std::filesystem::create_directories(products);
+  std::ofstream(dir.path() / "S" / "station.json") << "{}";
+  std::ofstream(products / "terrain_correction.json") << "process's own";
+  Raster dem = Raster::Make(-30, 30, 1.0, 60, 60, 5.0f);
+  dem.at(10, 10) = 9.0f;
+  ASSERT_TRUE(WriteGeoTiff(dem, (products / "dem.tif").string()));
+  const auto r = RunCommand(std::string(TS_TOPOSTATION_EXE) + " terrain-correction " +
+                            (products / "dem.tif").string() + " --station 0,0 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("not written into the station (give --out)"), std::string::npos) << r.out;
+  std::ifstream kept(products / "terrain_correction.json");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "process's own");
+  const auto out = RunCommand(std::string(TS_TOPOSTATION_EXE) + " terrain-correction " +
+                              (products / "dem.tif").string() + " --station 0,0 --out " +
+                              (dir / "mine.json") + " 2>&1");
+  ASSERT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_TRUE(std::filesystem::exists(dir / "mine.json"));
 }
 
 }  // namespace

@@ -2,7 +2,11 @@
 // elsewhere (a different pan zero): against planes whose values are known everywhere.
 #include "processing/io/raster.h"
 
+#include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <ogr_spatialref.h>
+
+#include "tests/common/temp_dir.h"
 
 namespace ts {
 namespace {
@@ -50,6 +54,40 @@ TEST(Raster, ResampledOutsideTheSourceIsNoData) {
   Raster grid = small;
   grid.min_x_m += 100.0;
   EXPECT_TRUE(Raster::IsNoData(small.ResampledOnto(grid).at(5, 5)));
+}
+
+// What is refused before it is read: a raster of 20000 x 20000 cells (a sparse file of a few
+// kilobytes; `diff` of it with itself grew to 18 GB) and one in feet, which every command
+// would take for metres.
+TEST(Raster, OversizeAndNonMetricRastersAreRefusedNamingTheFile) {
+  testing::TempDir dir;
+  GDALAllRegister();
+  auto create = [&](const std::string& name, int size, int epsg) {
+    char** options = CSLSetNameValue(nullptr, "TILED", "YES");
+    options = CSLSetNameValue(options, "SPARSE_OK", "TRUE");
+    GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+        (dir / name).c_str(), size, size, 1, GDT_Float32, options);
+    CSLDestroy(options);
+    double transform[6] = {500000.0, 1.0, 0.0, 5000000.0, 0.0, -1.0};
+    ds->SetGeoTransform(transform);
+    OGRSpatialReference srs;
+    srs.importFromEPSG(epsg);
+    ds->SetSpatialRef(&srs);
+    GDALClose(ds);
+  };
+  create("huge.tif", 20000, 32632);
+  EXPECT_LT(std::filesystem::file_size(dir / "huge.tif"), 10u << 20);
+  const Result<Raster> huge = ReadGeoTiff(dir / "huge.tif");
+  ASSERT_FALSE(huge);
+  EXPECT_NE(huge.error().find("huge.tif: 20000 x 20000 cells, more than"), std::string::npos)
+      << huge.error();
+  create("feet.tif", 10, 2229);  // NAD83 / California zone 5 (ftUS)
+  const Result<Raster> feet = ReadGeoTiff(dir / "feet.tif");
+  ASSERT_FALSE(feet);
+  EXPECT_NE(feet.error().find("feet.tif: its CRS's unit is"), std::string::npos) << feet.error();
+  EXPECT_NE(feet.error().find("not metres"), std::string::npos);
+  create("utm.tif", 10, 32632);
+  EXPECT_TRUE(ReadGeoTiff(dir / "utm.tif"));
 }
 
 }  // namespace
