@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "core/log.h"
 #include "processing/common/memory.h"
@@ -38,6 +39,19 @@ int main(int argc, char** argv) {
   ts::SetProgramArguments(argc, argv);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RequiredError& e) {
+    // CLI11 says "A subcommand is required" also when a word was given that is none.
+    int word = 1;
+    while (word < argc && argv[word][0] == '-') ++word;  // -v, -q
+    if (word < argc && app.get_subcommands().empty()) {
+      std::string known;
+      for (const CLI::App* sub : app.get_subcommands({}))
+        known += (known.empty() ? "" : ", ") + sub->get_name();
+      std::fprintf(stderr, "topostation: no command '%s' (commands: %s)\n", argv[word],
+                   known.c_str());
+      return 1;
+    }
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const ts::CommandError& e) {
