@@ -12,14 +12,30 @@ constexpr double kNewtonToleranceSquaredPx = 1e-20;
 bool Finite(double v) { return std::isfinite(v); }
 }  // namespace
 
+// What a real camera can be: a sensor up to 65535 px a side, a field of view across its
+// width between 1 and 170 degrees, the principal point on the sensor, and a distortion that
+// moves no point of the image by more than half its distance from the principal point (a
+// k1 of 1e6 took the whole image a thousand widths away, and a survey came out with 7 points).
+constexpr int kMaxSensorSidePx = 65535;
+constexpr double kMinFieldOfViewDeg = 1.0, kMaxFieldOfViewDeg = 170.0;
+constexpr double kMaxDistortionShare = 0.5;
+
 bool CameraIntrinsics::Check(std::string* why) const {
   std::ostringstream err;
-  if (width_px <= 0 || height_px <= 0)
-    err << "image size must be positive";
+  const double w = width_px, h = height_px;
+  auto half_tan = [](double deg) { return std::tan(deg * M_PI / 360.0); };
+  if (width_px <= 0 || height_px <= 0 || width_px > kMaxSensorSidePx ||
+      height_px > kMaxSensorSidePx)
+    err << "image size must be 1 to " << kMaxSensorSidePx << " px a side, got " << width_px << " x "
+        << height_px;
   else if (!Finite(principal_distance_px) || principal_distance_px <= 0.0)
     err << "principal_distance_px must be a finite positive number";
-  else if (!Finite(pixel_size_um) || pixel_size_um < 0.0)
-    err << "pixel_size_um must be finite and not negative";
+  else if (principal_distance_px < 0.5 * w / half_tan(kMaxFieldOfViewDeg) ||
+           principal_distance_px > 0.5 * w / half_tan(kMinFieldOfViewDeg))
+    err << "principal_distance_px " << principal_distance_px << " gives a field of view outside "
+        << kMinFieldOfViewDeg << "-" << kMaxFieldOfViewDeg << " deg across " << width_px << " px";
+  else if (!Finite(pixel_size_um) || pixel_size_um < 0.0 || pixel_size_um > 100.0)
+    err << "pixel_size_um must be 0 (unknown) to 100";
   else {
     for (int i = 1; i < kNumParameters; ++i) {
       if (!Finite(ToParameters()[i])) {
@@ -27,6 +43,25 @@ bool CameraIntrinsics::Check(std::string* why) const {
         break;
       }
     }
+  }
+  if (err.str().empty() && (principal_point_x_px < -0.5 || principal_point_x_px > w - 0.5 ||
+                            principal_point_y_px < -0.5 || principal_point_y_px > h - 0.5))
+    err << "principal point (" << principal_point_x_px << ", " << principal_point_y_px
+        << ") px is off the " << width_px << " x " << height_px << " image";
+  if (err.str().empty()) {
+    const std::array<double, kNumParameters> p = ToParameters();
+    const double xp = principal_point_x_px, yp = principal_point_y_px;
+    for (const double cx : {-0.5 - xp, w - 0.5 - xp})
+      for (const double cy : {-0.5 - yp, h - 0.5 - yp}) {
+        double dx = 0.0, dy = 0.0;
+        DistortionCorrection(p.data(), cx, cy, &dx, &dy);
+        if (err.str().empty() &&
+            !(std::hypot(dx, dy) <= kMaxDistortionShare * std::hypot(cx, cy))) {
+          err << "distortion and affinity move the image's corner by " << std::hypot(dx, dy)
+              << " px, more than half its " << std::hypot(cx, cy)
+              << " px from the principal point: no real lens";
+        }
+      }
   }
   if (err.str().empty()) return true;
   if (why) *why = err.str();

@@ -9,6 +9,7 @@ namespace {
 // A stage whose "small" calibration angles exceed this is misassembled, not miscalibrated.
 constexpr double kMaxSmallAngleDeg = 10.0;
 constexpr double kMaxOffsetM = 1.0;
+constexpr double kMaxHeightAboveMarkM = 10.0;
 }  // namespace
 
 bool StageKinematics::Check(std::string* why) const {
@@ -20,13 +21,14 @@ bool StageKinematics::Check(std::string* why) const {
     if (!std::isfinite(a) || std::abs(a) > kMaxSmallAngleDeg)
       err = "levelling, skew and rig rotation must be finite and within 10 deg";
   }
-  if (!std::isfinite(pan_zero_deg) || !std::isfinite(tilt_zero_deg))
-    err = "encoder zero offsets must be finite";
+  if (!(std::abs(pan_zero_deg) <= 360.0) || !(std::abs(tilt_zero_deg) <= 360.0))
+    err = "encoder zero offsets must be within 360 deg";
   if (!tilt_axis_offset_m.allFinite() || tilt_axis_offset_m.norm() > kMaxOffsetM ||
       !rig_offset_m.allFinite() || rig_offset_m.norm() > kMaxOffsetM)
     err = "mount offsets must be finite and within 1 m";
-  if (!std::isfinite(height_above_mark_m) || height_above_mark_m < 0.0)
-    err = "height_above_mark_m must be finite and not negative";
+  if (!std::isfinite(height_above_mark_m) || height_above_mark_m < 0.0 ||
+      height_above_mark_m > kMaxHeightAboveMarkM)
+    err = "height_above_mark_m must be 0 to 10 m (a tripod or a mast)";
   if (err.empty()) return true;
   if (why) *why = err;
   return false;

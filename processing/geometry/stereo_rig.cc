@@ -1,6 +1,7 @@
 #include "processing/geometry/stereo_rig.h"
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace ts {
@@ -11,14 +12,19 @@ bool IsRotation(const Eigen::Matrix3d& r) {
 }
 }  // namespace
 
+// A stereo rig on a stage: a centimetre to a few metres between the cameras.
+constexpr double kMinBaselineM = 0.01, kMaxBaselineM = 10.0;
+
 bool StereoRig::Check(std::string* why) const {
   std::string err;
   if (!left.Check(&err))
     err = "left camera: " + err;
   else if (!right.Check(&err))
     err = "right camera: " + err;
-  else if (!std::isfinite(baseline_m) || baseline_m <= 0.0)
-    err = "baseline_m must be a finite positive number";
+  else if (!std::isfinite(baseline_m) || baseline_m < kMinBaselineM || baseline_m > kMaxBaselineM)
+    err = (std::ostringstream() << "baseline_m must be " << kMinBaselineM << " to " << kMaxBaselineM
+                                << " m, got " << baseline_m)
+              .str();
   else if (!IsRotation(S_from_left))
     err = "S_from_left is not a rotation";
   else if (!IsRotation(left_from_right))

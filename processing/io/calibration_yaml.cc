@@ -156,6 +156,7 @@ Calibration ParseCalibration(YamlMap root) {
   cal.rig.left_from_right = RotationFromOpkDeg(stereo.Vector3("right_relative_opk_deg", {0, 0, 0}));
   if (version >= 2) cal.stereo_precision = ParseStereoPrecision(stereo);
   stereo.RejectUnknownKeys();
+  if (std::string why; !cal.rig.Check(&why)) throw ConfigError(stereo.path() + ": " + why);
   if (root.Has("stage")) cal.stage = ParseStage(root.Map("stage"));
   root.RejectUnknownKeys();
   return cal;

@@ -32,6 +32,20 @@ Status CheckPairImages(const std::string& station_dir, const StationManifest& m,
   return CheckImage(station_dir, m, pair.right, field + ".right", options);
 }
 
+Status CheckCalibrationFitsImages(const Calibration& calibration, const StationManifest& manifest,
+                                  const std::string& source) {
+  for (const auto& [name, camera] :
+       {std::pair<const char*, const CameraIntrinsics&>{"left", calibration.rig.left},
+        {"right", calibration.rig.right}})
+    if (camera.width_px != manifest.image_width_px || camera.height_px != manifest.image_height_px)
+      return Error{source + ": cameras." + name + " is of a " + std::to_string(camera.width_px) +
+                   " x " + std::to_string(camera.height_px) + " px image, the station's are " +
+                   std::to_string(manifest.image_width_px) + " x " +
+                   std::to_string(manifest.image_height_px) +
+                   ": a calibration of another camera or readout"};
+  return {};
+}
+
 Result<StationManifest> ValidateStation(const std::string& station_dir,
                                         const StationValidationOptions& options) {
   if (!std::filesystem::is_directory(station_dir))
@@ -39,6 +53,10 @@ Result<StationManifest> ValidateStation(const std::string& station_dir,
   Result<StationManifest> manifest = LoadStationManifest(station_dir);
   if (!manifest) return manifest;
   const StationManifest& m = *manifest;
+  if (Status s = CheckCalibrationFitsImages(
+          m.calibration, m, station_dir + "/" + kManifestFileName + ": calibration");
+      !s)
+    return Error{s.error()};
   for (size_t i = 0; i < m.pairs.size(); ++i) {
     const std::string field = "pairs[" + std::to_string(i) + "]";
     if (Status s = CheckPairImages(station_dir, m, m.pairs[i], field, options); !s)

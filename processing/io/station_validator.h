@@ -20,7 +20,13 @@ Status CheckPairImages(const std::string& station_dir, const StationManifest& ma
                        const PairRecord& pair, const std::string& field,
                        const StationValidationOptions& options = {});
 
-// The manifest when everything checks out.
+// A calibration is of the station's cameras as they were read out: each camera's image size
+// is the station's (a calibration of another sensor, or of a binned readout, would be used
+// without a word). source names the calibration in the error.
+Status CheckCalibrationFitsImages(const Calibration& calibration, const StationManifest& manifest,
+                                  const std::string& source);
+
+// The manifest when everything checks out (also its own calibration against its images).
 Result<StationManifest> ValidateStation(const std::string& station_dir,
                                         const StationValidationOptions& options = {});
 

@@ -31,6 +31,8 @@ Result<StationInputs> LoadStationInputs(const std::string& dir, const std::strin
   if (!calibration_file.empty()) {
     Result<Calibration> c = LoadCalibrationYaml(calibration_file);
     if (!c) return Error{c.error()};
+    if (Status fits = CheckCalibrationFitsImages(*c, in.manifest, calibration_file); !fits)
+      return Error{fits.error()};
     in.calibration = set_up_from_calibration_file ? *c : StationStart(*c, in.manifest);
     in.calibration_source = calibration_file;
     if (!set_up_from_calibration_file) in.calibration_source += " (levelling and height: station)";

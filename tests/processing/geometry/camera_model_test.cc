@@ -184,6 +184,24 @@ TEST(CameraModel, CheckRejectsBadIntrinsics) {
   c = StrongLens();
   c.width_px = 0;
   EXPECT_FALSE(c.Check(&why));
+  // What no real camera is: a field of view under 1 or over 170 degrees, the principal point
+  // off the sensor, a lens that moves its corner by more than half its distance from the axis.
+  c = StrongLens();
+  c.principal_distance_px = 0.5 * 1392 / std::tan(0.4 * M_PI / 360);
+  EXPECT_FALSE(c.Check(&why));
+  EXPECT_NE(why.find("field of view"), std::string::npos) << why;
+  c.principal_distance_px = 0.5 * 1392 / std::tan(172 * M_PI / 360);
+  EXPECT_FALSE(c.Check(&why));
+  c = StrongLens();
+  c.principal_point_y_px = -3.0;
+  EXPECT_FALSE(c.Check(&why));
+  EXPECT_NE(why.find("off the"), std::string::npos) << why;
+  c = StrongLens();
+  c.k1 = 1.2;  // the corner, 0.47 principal distances out: moved by 0.26 of its distance
+  EXPECT_TRUE(c.Check(&why)) << why;
+  c.k1 = 2.5;  // by 0.55
+  EXPECT_FALSE(c.Check(&why));
+  EXPECT_NE(why.find("no real lens"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -45,5 +45,29 @@ TEST(StationInputs, TheLevellingAndHeightAreTheStationsUnlessTheFileIsItsOwn) {
   EXPECT_NE(own->calibration_sha256, in->calibration_sha256);
 }
 
+// A calibration of another sensor (or of a binned readout) is refused, naming the file.
+TEST(StationInputs, ACalibrationOfAnotherImageSizeIsRefused) {
+  testing::TempDir dir;
+  const std::string station = dir / "st";
+  const StationManifest m = testing::MakeStation(station, 3, 3);
+  Calibration other = m.calibration;
+  other.rig.left.width_px = other.rig.right.width_px = m.image_width_px / 2;
+  other.rig.left.height_px = other.rig.right.height_px = m.image_height_px / 2;
+  other.rig.left.principal_point_x_px = other.rig.right.principal_point_x_px =
+      0.25 * m.image_width_px;
+  other.rig.left.principal_point_y_px = other.rig.right.principal_point_y_px =
+      0.25 * m.image_height_px;
+  other.rig.left.principal_distance_px /= 2;
+  other.rig.right.principal_distance_px /= 2;
+  ASSERT_TRUE(SaveCalibrationYaml(other, dir / "binned.yaml").ok());
+  const Result<StationInputs> in = LoadStationInputs(station, dir / "binned.yaml", "");
+  ASSERT_FALSE(in);
+  EXPECT_NE(in.error().find(dir / "binned.yaml" + ": cameras.left is of a " +
+                            std::to_string(m.image_width_px / 2) + " x "),
+            std::string::npos)
+      << in.error();
+  EXPECT_NE(in.error().find("another camera or readout"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ts
