@@ -31,9 +31,13 @@ struct ProcessArgs {
 };
 
 void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
-  std::printf("%s: terrain correction %.4f +- %.4f mGal\n", station.c_str(),
-              r["terrain_correction_mgal"].get<double>(),
-              r["terrain_correction_sigma_mgal"].get<double>());
+  if (r["terrain_correction_mgal"].is_number())
+    std::printf("%s: terrain correction %.4f +- %.4f mGal\n", station.c_str(),
+                r["terrain_correction_mgal"].get<double>(),
+                r["terrain_correction_sigma_mgal"].get<double>());
+  else
+    std::printf("%s: terrain correction unusable: %s\n", station.c_str(),
+                r.value("unusable_because", std::string("?")).c_str());
   std::printf(
       "%s: %d points, %d ground, DEM %s (%.0f %% of the cells within 30 m, %.0f %% of "
       "the square) in %.1f s; products in %s/products\n",
@@ -145,6 +149,9 @@ std::pair<double, double> StationTerrainCorrection(const std::string& station) {
   const std::string file = station + "/products/terrain_correction.json";
   std::ifstream in(file);
   const nlohmann::json tc = nlohmann::json::parse(in, nullptr, false);
+  if (tc.is_object() && tc.value("verdict", "") == "unusable")
+    throw CommandError(file + ": the terrain correction is unusable: " +
+                       tc.value("unusable_because", std::string("?")));
   for (const char* field : {"terrain_correction_mgal", "sigma_mgal"})
     if (!tc.is_object() || !tc.contains(field) || !tc[field].is_number())
       throw CommandError(file + ": " + field + ": missing (process the station again)");

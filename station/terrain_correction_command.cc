@@ -70,6 +70,10 @@ void Run(const TerrainCorrectionArgs& args) {
     std::printf("%s\n", j.dump().c_str());
     return;
   }
+  if (!tc.Usable()) {
+    std::printf("terrain correction unusable: %s\n", tc.unusable_because.c_str());
+    return;
+  }
   std::printf(
       "terrain correction %.4f +- %.4f mGal (density %.2f g/cm3, sensor %.2f m above the "
       "mark); %s\n",

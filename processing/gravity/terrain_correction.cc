@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include "processing/gravity/prism.h"
 
@@ -164,6 +165,22 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       tc.warnings.push_back(text);
     }
     tc.rings.push_back(ring);
+  }
+  // Rings 0-2 and 2-10 m lie within 10 m, 0-30 m within 30 m.
+  auto covered = [&](int rings) {
+    int cells = 0, data = 0;
+    for (int k = 0; k < rings; ++k) cells += ring_cells[k], data += ring_data[k];
+    return cells > 0 ? static_cast<double>(data) / cells : 1.0;
+  };
+  for (const auto& [rings, radius, minimum] :
+       {std::tuple{2, 10, o.min_coverage_10m}, std::tuple{4, 30, o.min_coverage_30m}}) {
+    if (!tc.Usable() || covered(rings) >= minimum) continue;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "only %.0f %% of the ground within %d m has data (%.0f %% needed): too little "
+                  "was seen to estimate the rest",
+                  100 * covered(rings), radius, 100 * minimum);
+    tc.unusable_because = text;
   }
   return tc;
 }

@@ -44,6 +44,11 @@ struct TerrainCorrectionOptions {
   // field, relative error < 1e-4 there); 0: the exact prism everywhere.
   double far_field_ratio = 5.0;
   double min_ring_coverage = 0.9;  // warn below
+  // Below these shares of cells with data within 10 m and within 30 m of the mark, the
+  // correction is unusable: estimated from so little seen ground, its sigma would claim what
+  // nobody measured (a survey with a lens 1e6 off gave 7 points and 0.038 +- 0.28 mGal).
+  double min_coverage_10m = 0.5;
+  double min_coverage_30m = 0.3;
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("density_kg_m3", self.density_kg_m3, {"density of the terrain", "kg/m3", 100, 10000});
@@ -58,6 +63,10 @@ struct TerrainCorrectionOptions {
     v("far_field_ratio", self.far_field_ratio,
       {"distance over size beyond which a prism is a point mass (0: exact)", "", 0, 1000});
     v("min_ring_coverage", self.min_ring_coverage, {"warn when a ring is covered less", "", 0, 1});
+    v("min_coverage_10m", self.min_coverage_10m,
+      {"unusable when less of the ground within 10 m has data", "", 0, 1});
+    v("min_coverage_30m", self.min_coverage_30m,
+      {"unusable when less of the ground within 30 m has data", "", 0, 1});
   }
   bool Check(std::string* why) const;
 };
@@ -79,6 +88,8 @@ struct TerrainCorrection {
   double quadrant_mgal[4] = {0, 0, 0, 0};  // NE, SE, SW, NW (x east, y north)
   double station_misfit_m = 0.0;           // DEM at the mark minus the mark's height (removed)
   std::vector<std::string> warnings;
+  std::string unusable_because;  // empty: usable; else why the correction means nothing
+  bool Usable() const { return unusable_because.empty(); }
 };
 
 // station_mark: (x, y, z) of the mark in the DEM's frame. dem_std may be null (sigma 0).

@@ -16,27 +16,32 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
                      {"coverage", r.coverage},
                      {"sigma_mgal", r.sigma_mgal},
                      {"sigma_unseen_mgal", r.sigma_unseen_mgal}});
-  return {{"terrain_correction_mgal", tc.total_mgal},
-          {"sigma_mgal", tc.sigma_mgal},
-          {"sigma_unseen_mgal", tc.sigma_unseen_mgal},
-          {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
-          {"sigma_method",
-           "linearisation: dTC/dh of each cell times its std; cells whose ground was seen "
-           "independent, cells nobody saw (bounded by the lines of sight and how the seen "
-           "ground turns) as one unknown, added linearly; the fully correlated sum is an upper "
-           "bound"},
-          {"rings", rings},
-          {"quadrants_mgal",
-           {{"NE", tc.quadrant_mgal[0]},
-            {"SE", tc.quadrant_mgal[1]},
-            {"SW", tc.quadrant_mgal[2]},
-            {"NW", tc.quadrant_mgal[3]}}},
-          {"station_mark", {mark.x(), mark.y(), mark.z()}},
-          {"dem_misfit_at_mark_m", tc.station_misfit_m},
-          {"density_g_cm3", o.density_kg_m3 / 1000.0},
-          {"sensor_height_m", o.sensor_height_m},
-          {"radius_m", o.radius_m > 0 ? nlohmann::json(o.radius_m) : nlohmann::json("whole DEM")},
-          {"warnings", tc.warnings}};
+  // An unusable correction has no value: null, with the reason, never a number to copy.
+  auto value = [&](double v) { return tc.Usable() ? nlohmann::json(v) : nlohmann::json(); };
+  return {
+      {"terrain_correction_mgal", value(tc.total_mgal)},
+      {"sigma_mgal", value(tc.sigma_mgal)},
+      {"verdict", tc.Usable() ? "usable" : "unusable"},
+      {"unusable_because", tc.Usable() ? nlohmann::json() : nlohmann::json(tc.unusable_because)},
+      {"sigma_unseen_mgal", tc.sigma_unseen_mgal},
+      {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
+      {"sigma_method",
+       "linearisation: dTC/dh of each cell times its std; cells whose ground was seen "
+       "independent, cells nobody saw (bounded by the lines of sight and how the seen "
+       "ground turns) as one unknown, added linearly; the fully correlated sum is an upper "
+       "bound"},
+      {"rings", rings},
+      {"quadrants_mgal",
+       {{"NE", tc.quadrant_mgal[0]},
+        {"SE", tc.quadrant_mgal[1]},
+        {"SW", tc.quadrant_mgal[2]},
+        {"NW", tc.quadrant_mgal[3]}}},
+      {"station_mark", {mark.x(), mark.y(), mark.z()}},
+      {"dem_misfit_at_mark_m", tc.station_misfit_m},
+      {"density_g_cm3", o.density_kg_m3 / 1000.0},
+      {"sensor_height_m", o.sensor_height_m},
+      {"radius_m", o.radius_m > 0 ? nlohmann::json(o.radius_m) : nlohmann::json("whole DEM")},
+      {"warnings", tc.warnings}};
 }
 
 }  // namespace ts

@@ -53,8 +53,11 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   if (!w.rig_check.is_null()) report["rig"] = w.rig_check;
   report["frame"] = in.georeference ? "projected CRS (GCPs)" : "station frame L";
   report["station_mark"] = {w.mark_dem.x(), w.mark_dem.y(), w.mark_dem.z()};
-  report["terrain_correction_mgal"] = w.terrain_correction.total_mgal;
-  report["terrain_correction_sigma_mgal"] = w.terrain_correction.sigma_mgal;
+  const TerrainCorrection& tc = w.terrain_correction;
+  report["terrain_correction_mgal"] = tc.Usable() ? nlohmann::json(tc.total_mgal) : nullptr;
+  report["terrain_correction_sigma_mgal"] = tc.Usable() ? nlohmann::json(tc.sigma_mgal) : nullptr;
+  report["verdict"] = tc.Usable() ? "usable" : "unusable";
+  if (!tc.Usable()) report["unusable_because"] = tc.unusable_because;
   report["timings_s"] = summary.TimingsJson();
   if (nlohmann::json capture = CaptureTimelineJson(in.manifest.pairs); !capture.is_null())
     report["capture_timeline"] = capture;

@@ -31,8 +31,15 @@ bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* 
   s->counts = {{"points", w->cloud.size()},
                {"points_near_square", w->region.size()},
                {"blunders", blunders}};
+  if (w->cloud.empty()) {
+    s->message =
+        "no pair gave a single match: the images hold nothing the matcher can use "
+        "(blank, saturated, dark or noise?)";
+    return false;
+  }
   if (w->region.empty()) {
-    s->message = "no point within " + std::to_string(reach) + " m of the station";
+    s->message = "none of the " + std::to_string(w->cloud.size()) + " points lies within " +
+                 OptionNumberText(reach) + " m of the station";
     return false;
   }
   return true;

@@ -132,7 +132,8 @@ TEST_F(StationProcessorTest, ACancelledOrFailedJobSaysWhichStepStoppedIt) {
     const StepSummary* blunders = s.Find("blunder_filter");
     ASSERT_NE(blunders, nullptr);
     EXPECT_EQ(blunders->state, StepSummary::State::kFailed);
-    EXPECT_NE(r.error().find("no point within"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("points lies within 5 m of the station"), std::string::npos)
+        << r.error();
     EXPECT_GT(s.Find("matching")->counts["points"].get<int>(), 0);
     EXPECT_EQ(s.Find("kriging"), nullptr);  // never started
   }

@@ -49,6 +49,8 @@ TEST(ProcessCommand, BadInputGivesOneClearError) {
             std::string::npos);
   EXPECT_NE(error_of(s + " --set ground.slope=-1").find("ground.slope must be in [0, 10]"),
             std::string::npos);
+  // Images of noise: nothing matches, and the error says so (it was "could not write the PLY").
+  EXPECT_NE(error_of(s + " -q").find("no pair gave a single match"), std::string::npos);
   std::ofstream(s + "/raw/pair_01_right.png", std::ios::app) << "garbage";
   EXPECT_NE(error_of(s).find("pair_01_right.png"), std::string::npos);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "processing/gravity/prism.h"
+#include "processing/gravity/terrain_correction_json.h"
 
 namespace ts {
 namespace {
@@ -206,6 +207,37 @@ TEST(TerrainCorrection, UnseenGroundIsOneUnknownSeenCellsAreIndependent) {
   const TerrainCorrection c = ComputeTerrainCorrection(dem, &std_dev, mark, {}, &estimated);
   EXPECT_EQ(c.rings[1].coverage, 0.0);
   EXPECT_DOUBLE_EQ(c.total_mgal, a.total_mgal);
+}
+
+// Estimated from too little seen ground, a correction has no value: unusable, with the
+// reason, whatever its sigma says. A DEM with data only in a strip along one edge: a tenth of
+// the ground within 30 m, a third within 10 m.
+TEST(TerrainCorrection, TooLittleSeenGroundIsUnusableNotATightSigma) {
+  Raster dem = Raster::Make(-30, 30, 1.0, 60, 60);
+  Raster std_dev = dem;
+  for (int r = 0; r < 60; ++r)
+    for (int c = 0; c < 60; ++c)
+      if (dem.CellCentreX(c) > 6.0 ||
+          (std::abs(dem.CellCentreX(c)) < 2 && std::abs(dem.CellCentreY(r)) < 2))
+        dem.at(r, c) = 0.1f * static_cast<float>(dem.CellCentreX(c)), std_dev.at(r, c) = 0.01f;
+  TerrainCorrectionOptions o;
+  TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, o);
+  EXPECT_FALSE(tc.Usable());
+  EXPECT_NE(tc.unusable_because.find("of the ground within 10 m has data (50 % needed)"),
+            std::string::npos)
+      << tc.unusable_because;
+  const nlohmann::json j = TerrainCorrectionToJson(tc, o, {0, 0, 0});
+  EXPECT_TRUE(j["terrain_correction_mgal"].is_null());
+  EXPECT_TRUE(j["sigma_mgal"].is_null());
+  EXPECT_EQ(j["verdict"], "unusable");
+  // The same ground seen all round is usable.
+  for (float& v : dem.values)
+    if (Raster::IsNoData(v)) v = 0.0f;
+  for (float& v : std_dev.values)
+    if (Raster::IsNoData(v)) v = 0.01f;
+  tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, o);
+  EXPECT_TRUE(tc.Usable()) << tc.unusable_because;
+  EXPECT_EQ(TerrainCorrectionToJson(tc, o, {0, 0, 0})["verdict"], "usable");
 }
 
 }  // namespace
