@@ -1,7 +1,9 @@
 #include "processing/io/station_validator.h"
 
+#include <algorithm>
 #include <filesystem>
 
+#include "processing/io/image_file.h"
 #include "processing/io/sha256.h"
 
 namespace ts {
@@ -12,9 +14,20 @@ Status CheckImage(const std::string& station_dir, const StationManifest& m, cons
   const std::string path = (std::filesystem::path(station_dir) / r.file).string();
   const std::string where = station_dir + "/" + kManifestFileName + ": " + field + ": ";
   if (!std::filesystem::is_regular_file(path)) return Error{where + "missing image " + path};
+  // Through every link and "..": a station is the files in its directory, nothing outside.
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::canonical(path, ec);
+  const std::filesystem::path home = std::filesystem::canonical(station_dir, ec);
+  const auto [outside, _] = std::mismatch(home.begin(), home.end(), real.begin(), real.end());
+  if (ec || outside != home.end())
+    return Error{where + path + " lies outside the station directory (" + real.string() + ")"};
   const Result<std::string> sha = Sha256OfFile(path);
   if (!sha) return Error{where + sha.error()};
   if (*sha != r.sha256) return Error{where + "checksum mismatch for " + path};
+  // By content, always: a checksum says the file is the one written, not that it is a PNG.
+  if (Status header = CheckMonoPngHeader(path, m.pixel_format, m.image_width_px, m.image_height_px);
+      !header)
+    return Error{where + header.error()};
   if (options.decode_images) {
     const Result<cv::Mat> image =
         ReadMonoPng(path, m.pixel_format, m.image_width_px, m.image_height_px);

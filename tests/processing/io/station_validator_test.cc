@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "processing/io/atomic_file.h"
 #include "processing/io/sha256.h"
@@ -55,8 +57,38 @@ TEST_F(StationValidator, ChecksumMismatch) {
 TEST_F(StationValidator, ImageOfTheWrongSize) {
   ReplaceImage(0, cv::Mat(16, 32, CV_8UC1, cv::Scalar(9)));
   EXPECT_NE(Error().find("image is 32x16, manifest says 64x48"), std::string::npos) << Error();
-  // Without decoding the images the size problem is not seen.
-  EXPECT_EQ(Error({.decode_images = false}), "");
+  // The header says so: seen without decoding the images too.
+  EXPECT_NE(Error({.decode_images = false}).find("image is 32x16"), std::string::npos);
+}
+
+// Checked by content before anything is decoded: a JPEG named .png (its checksum right), and
+// a PNG whose header declares 30000 x 30000 (it was decoded in full, 940 MB, before its size
+// was refused).
+TEST_F(StationValidator, ImagesAreCheckedByContentBeforeDecoding) {
+  const std::string path = File(manifest_.pairs[0].left.file);
+  std::vector<uchar> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", cv::Mat(48, 64, CV_8UC1, cv::Scalar(50)), jpeg));
+  ASSERT_TRUE(WriteFileAtomically(path, std::string(jpeg.begin(), jpeg.end())).ok());
+  manifest_.pairs[0].left.sha256 = *Sha256OfFile(path);
+  ASSERT_TRUE(SaveStationManifest(&manifest_, station()).ok());
+  EXPECT_NE(Error({.decode_images = false}).find("not a PNG image by its content (a JPEG)"),
+            std::string::npos)
+      << Error();
+  std::string huge = *ReadWholeFile(File(manifest_.pairs[1].left.file));
+  for (int k : {16, 20}) huge.replace(k, 4, std::string("\x00\x00\x75\x30", 4));  // 30000
+  ASSERT_TRUE(WriteFileAtomically(path, huge).ok());
+  manifest_.pairs[0].left.sha256 = *Sha256OfFile(path);
+  ASSERT_TRUE(SaveStationManifest(&manifest_, station()).ok());
+  EXPECT_NE(Error().find("image is 30000x30000, manifest says 64x48"), std::string::npos)
+      << Error();
+}
+
+// No path leaves the station: a raw/ that links elsewhere is refused, naming where it leads.
+TEST_F(StationValidator, ImagesOutsideTheStationAreRefused) {
+  testing::TempDir elsewhere;
+  std::filesystem::rename(File("raw"), elsewhere / "raw");
+  std::filesystem::create_directory_symlink(elsewhere / "raw", File("raw"));
+  EXPECT_NE(Error().find("lies outside the station directory"), std::string::npos) << Error();
 }
 
 TEST_F(StationValidator, ImageOfTheWrongPixelFormat) {
