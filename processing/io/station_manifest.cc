@@ -54,7 +54,14 @@ namespace {
 
 json PoseToJson(const StagePose& p) { return {{"pan_deg", p.pan_deg}, {"tilt_deg", p.tilt_deg}}; }
 
-StagePose PoseFromJson(const JsonObject& o) { return {o.Number("pan_deg"), o.Number("tilt_deg")}; }
+// A stage's angles: a pan within a turn either way, a tilt within a half turn (a read-back of
+// 1e300 was taken as an angle).
+StagePose PoseFromJson(const JsonObject& o) {
+  const StagePose pose{o.Number("pan_deg"), o.Number("tilt_deg")};
+  if (!(std::abs(pose.pan_deg) <= 360.0)) o.Fail("pan_deg", "must be within 360 deg");
+  if (!(std::abs(pose.tilt_deg) <= 90.0)) o.Fail("tilt_deg", "must be within 90 deg");
+  return pose;
+}
 
 // The timeline's fields, once for writing and reading.
 template <class Timeline, class V>
@@ -201,7 +208,13 @@ Result<StationManifest> ManifestFromJson(const std::string& text, const std::str
     const Result<PixelFormat> format = PixelFormatFromName(image.String("pixel_format"));
     if (!format) image.Fail("pixel_format", format.error());
     m.pixel_format = *format;
-    for (const JsonObject& pose : root.Array("capture_plan")) m.plan.push_back(PoseFromJson(pose));
+    // A panorama is a dozen or two pairs; thousands are a corrupt or hostile manifest, which
+    // process would work through for minutes before saying anything.
+    const std::vector<JsonObject> plan = root.Array("capture_plan");
+    if (plan.size() > kMaxPlanPoses)
+      root.Fail("capture_plan", std::to_string(plan.size()) + " poses, more than the " +
+                                    std::to_string(kMaxPlanPoses) + " a station may have");
+    for (const JsonObject& pose : plan) m.plan.push_back(PoseFromJson(pose));
     for (const JsonObject& pair : root.Array("pairs")) m.pairs.push_back(PairFromJson(pair));
     CheckPairs(m, root);
     return m;

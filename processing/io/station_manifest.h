@@ -23,6 +23,8 @@ namespace ts {
 inline constexpr int kStationSchemaVersion = 1;
 inline constexpr const char* kStationSchemaName = "topostation.station";
 inline constexpr const char* kManifestFileName = "station.json";
+// A panorama is 12-24 pairs (a few rows of tilt at most): more poses than this are refused.
+inline constexpr size_t kMaxPlanPoses = 200;
 
 struct ImageRecord {
   std::string file;    // relative to the station directory, e.g. "raw/pair_03_left.png"

@@ -111,7 +111,18 @@ INSTANTIATE_TEST_SUITE_P(
                    d["pairs"][1]["timeline"] = {{"write_s", -1}};
                  },
                  "pairs[1].timeline.write_s: must not be negative"},
-        Mutation{"not_object", [](json& d) { d = json::array(); }, "document: must be an object"}),
+        Mutation{"not_object", [](json& d) { d = json::array(); }, "document: must be an object"},
+        Mutation{"readback_1e300", [](json& d) { d["pairs"][1]["readback"]["pan_deg"] = 1e300; },
+                 "pairs[1].readback.pan_deg: must be within 360 deg"},
+        Mutation{"tilt_past_zenith", [](json& d) { d["capture_plan"][2]["tilt_deg"] = -135.0; },
+                 "capture_plan[2].tilt_deg: must be within 90 deg"},
+        Mutation{"baseline", [](json& d) { d["calibration"]["stereo"]["baseline_m"] = 1e-300; },
+                 "calibration.stereo: baseline_m must be 0.01 to 10 m"},
+        Mutation{"500_poses",
+                 [](json& d) {
+                   for (int i = 0; i < 500; ++i) d["capture_plan"].push_back(d["capture_plan"][0]);
+                 },
+                 "capture_plan: 504 poses, more than the 200 a station may have"}),
     [](const ::testing::TestParamInfo<Mutation>& info) { return std::string(info.param.name); });
 
 TEST(StationManifest, TruncatedJsonIsReportedWithItsPosition) {
