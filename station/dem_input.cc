@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/options.h"
 #include "processing/io/atomic_file.h"
 #include "station/commands.h"
 
@@ -34,6 +35,17 @@ DemInput LoadDemInput(const std::string& input) {
   if (!dem)
     throw CommandError(dem.error() + (in.station_dir ? " (run `topostation process`)" : ""));
   in.dem = std::move(*dem);
+  // Heights no ground on Earth has (a float's 3e38, a nodata value left undeclared) would
+  // make a terrain correction of them.
+  constexpr float kHighestGroundM = 9000.0f, kLowestGroundM = -11000.0f;
+  for (size_t i = 0; i < in.dem.values.size(); ++i) {
+    const float h = in.dem.values[i];
+    if (!Raster::IsNoData(h) && (h > kHighestGroundM || h < kLowestGroundM))
+      throw CommandError(in.dem_file + ": cell (row " + std::to_string(i / in.dem.cols) +
+                         ", column " + std::to_string(i % in.dem.cols) + ") holds " +
+                         OptionNumberText(h) +
+                         " m, a height no ground has (an undeclared nodata value?)");
+  }
   std::filesystem::path std_file(in.dem_file);
   std_file.replace_filename(std_file.stem().string() + "_std" + std_file.extension().string());
   if (std::filesystem::exists(std_file)) {

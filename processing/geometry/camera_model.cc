@@ -57,8 +57,13 @@ bool CameraIntrinsics::Check(std::string* why) const {
         DistortionCorrection(p.data(), cx, cy, &dx, &dy);
         if (err.str().empty() &&
             !(std::hypot(dx, dy) <= kMaxDistortionShare * std::hypot(cx, cy))) {
-          err << "distortion and affinity move the image's corner by " << std::hypot(dx, dy)
-              << " px, more than half its " << std::hypot(cx, cy)
+          const double moved = std::hypot(dx, dy);
+          err << "distortion and affinity move the image's corner by ";
+          if (std::isfinite(moved))
+            err << moved << " px";
+          else
+            err << "more than a double holds";
+          err << ", more than half its " << std::hypot(cx, cy)
               << " px from the principal point: no real lens";
         }
       }

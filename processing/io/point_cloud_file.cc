@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "processing/io/atomic_file.h"
@@ -74,55 +76,141 @@ struct DeclaredCloud {
   size_t header_bytes = 0;
 };
 
-// The header, read line by line up to its end, before any parser reserves memory for what it
-// declares (PCL's readers trust the count: a PLY declaring 4e9 vertices, a PCD with none).
-Result<DeclaredCloud> ReadDeclaredCloud(const std::string& path, bool ply) {
+// The header's lines, up to and with the one for which `last` holds (at most 1000 lines).
+struct HeaderLines {
+  std::vector<std::string> lines;
+  size_t bytes = 0;
+  bool ended = false;
+};
+
+template <class Last>
+HeaderLines ReadHeaderLines(const std::string& path, Last last) {
   std::ifstream in(path, std::ios::binary);
+  HeaderLines h;
+  std::string line;
+  while (h.lines.size() < 1000 && std::getline(in, line)) {
+    h.bytes += line.size() + 1;
+    h.lines.push_back(line);
+    if (last(line)) return h.ended = true, h;
+  }
+  return h;
+}
+
+// A header line as an error message can show it: non-printable bytes as '?', at most 60.
+std::string Shown(const std::string& line) {
+  std::string shown = line.substr(0, 60);
+  for (char& c : shown)
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  return shown + (line.size() > 60 ? "..." : "");
+}
+
+bool Whole(double v, double max) { return v >= 0.0 && v <= max && v == std::floor(v); }
+
+// The whole header is checked before PCL reads the file: PCL's readers trust what they find
+// (a PLY declaring 4e9 vertices is reserved; a PCD without its POINTS line crashes the binary
+// reader), so anything not in the format's specification is refused here.
+Result<DeclaredCloud> ReadDeclaredPly(const std::string& path) {
+  const HeaderLines h =
+      ReadHeaderLines(path, [](const std::string& l) { return l == "end_header"; });
+  if (!h.ended || h.lines.empty() || h.lines[0] != "ply")
+    return Error{path + ": no complete PLY header (ply ... end_header)"};
   DeclaredCloud d;
-  std::string line, format;
-  double record_bytes = 0.0, fields = 0.0, width = 1.0, height = 1.0;
-  bool in_vertex = false, ended = false, points_given = false;
-  for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
-    d.header_bytes += line.size() + 1;
+  d.header_bytes = h.bytes;
+  std::string format, element;
+  double record_bytes = 0.0, properties = 0.0;
+  bool vertex = false;
+  for (size_t i = 1; i + 1 < h.lines.size(); ++i) {
+    std::istringstream words(h.lines[i]);
+    std::string key, a, b, c;
+    words >> key;
+    const auto bad = [&] {
+      return Error{path + ": PLY header line '" + Shown(h.lines[i]) + "' is not valid"};
+    };
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format") {
+      words >> format >> a;
+      if ((format != "ascii" && format != "binary_little_endian" &&
+           format != "binary_big_endian") ||
+          a != "1.0")
+        return bad();
+    } else if (key == "element") {
+      double count = -1.0;
+      words >> element >> count;
+      if (!words || !Whole(count, 1e15)) return bad();
+      if (element == "vertex") vertex = true, d.points = count;
+    } else if (key == "property") {
+      words >> a >> b;
+      if (a == "list") {
+        words >> c;
+        if (!PlyTypeBytes(b) || !PlyTypeBytes(c)) return bad();
+      } else if (!PlyTypeBytes(a) || b.empty()) {
+        return bad();
+      }
+      if (element.empty()) return bad();
+      if (element == "vertex")
+        properties += 1.0, record_bytes += a == "list" ? double(PlyTypeBytes(b)) : PlyTypeBytes(a);
+    } else {
+      return bad();
+    }
+  }
+  if (format.empty()) return Error{path + ": PLY header without its format line"};
+  if (!vertex) return Error{path + ": PLY header without a vertex element"};
+  d.min_body_bytes = d.points * (format == "ascii" ? 2.0 * properties : record_bytes);
+  return d;
+}
+
+Result<DeclaredCloud> ReadDeclaredPcd(const std::string& path) {
+  const HeaderLines h =
+      ReadHeaderLines(path, [](const std::string& l) { return l.rfind("DATA", 0) == 0; });
+  if (!h.ended) return Error{path + ": no complete PCD header (up to its DATA line)"};
+  DeclaredCloud d;
+  d.header_bytes = h.bytes;
+  std::map<std::string, std::vector<std::string>> values;
+  for (const std::string& line : h.lines) {
+    if (line.empty() || line[0] == '#') continue;
     std::istringstream words(line);
     std::string key;
     words >> key;
-    if (ply) {
-      if (key == "format") words >> format;
-      if (key == "element") {
-        std::string name;
-        words >> name;
-        in_vertex = name == "vertex";
-        if (in_vertex) words >> d.points;
-      }
-      if (key == "property" && in_vertex) {
-        std::string type;
-        words >> type;
-        fields += 1.0;
-        record_bytes += type == "list" ? 1.0 : static_cast<double>(PlyTypeBytes(type));
-      }
-      if (key == "end_header") ended = true;
-    } else {
-      if (key == "SIZE" || key == "COUNT") {
-        std::vector<double> v;
-        for (double x; words >> x;) v.push_back(x);
-        if (key == "SIZE") record_bytes = 0.0, fields = static_cast<double>(v.size());
-        for (size_t i = 0; i < v.size(); ++i) record_bytes += key == "SIZE" ? v[i] : 0.0;
-      }
-      if (key == "WIDTH") words >> width;
-      if (key == "HEIGHT") words >> height;
-      if (key == "POINTS") words >> d.points, points_given = true;
-      if (key == "DATA") words >> format, ended = true;
-    }
-    if (!words && !words.eof()) return Error{path + ": header line '" + line + "' unreadable"};
-    if (ended) break;
+    static const std::set<std::string> kKeys = {"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                                "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+    if (!kKeys.count(key) || values.count(key))
+      return Error{path + ": PCD header line '" + Shown(line) + "' is not valid"};
+    std::vector<std::string>& v = values[key];
+    for (std::string w; words >> w;) v.push_back(w);
   }
-  if (!ended) return Error{path + ": no complete " + (ply ? "PLY" : "PCD") + " header"};
-  if (!ply && !points_given) d.points = width * height;
-  if (!(d.points >= 0.0)) return Error{path + ": header declares a negative number of points"};
-  const bool ascii = format == "ascii";
-  if (format != "binary_compressed")
-    d.min_body_bytes = d.points * (ascii ? 2.0 * fields : record_bytes);
+  for (const char* key : {"FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT", "POINTS", "DATA"})
+    if (!values.count(key) || values[key].empty())
+      return Error{path + ": PCD header without its " + key + " line"};
+  const size_t fields = values["FIELDS"].size();
+  if (!values.count("COUNT")) values["COUNT"].assign(fields, "1");
+  auto number = [](const std::string& w) {
+    char* end = nullptr;
+    const double v = std::strtod(w.c_str(), &end);
+    return end && *end == '\0' ? v : -1.0;
+  };
+  double record_bytes = 0.0;
+  for (const char* key : {"SIZE", "TYPE", "COUNT"})
+    if (values[key].size() != fields)
+      return Error{path + ": PCD header: " + key + " does not give one entry per field"};
+  for (size_t i = 0; i < fields; ++i) {
+    const double size = number(values["SIZE"][i]), count = number(values["COUNT"][i]);
+    const std::string& type = values["TYPE"][i];
+    if ((size != 1 && size != 2 && size != 4 && size != 8) || !Whole(count, 1e6) || count < 1 ||
+        (type != "I" && type != "U" && type != "F"))
+      return Error{path + ": PCD header: field " + values["FIELDS"][i] +
+                   " has no valid SIZE, TYPE and COUNT"};
+    record_bytes += size * count;
+  }
+  const double width = number(values["WIDTH"][0]), height = number(values["HEIGHT"][0]);
+  d.points = number(values["POINTS"][0]);
+  if (!Whole(width, 1e15) || !Whole(height, 1e15) || !Whole(d.points, 1e15) ||
+      d.points != width * height)
+    return Error{path + ": PCD header: POINTS must be WIDTH x HEIGHT, whole numbers"};
+  const std::string& data = values["DATA"][0];
+  if (data != "ascii" && data != "binary" && data != "binary_compressed")
+    return Error{path + ": PCD header: DATA must be ascii, binary or binary_compressed"};
+  if (data != "binary_compressed")
+    d.min_body_bytes = d.points * (data == "ascii" ? 2.0 * fields : record_bytes);
   return d;
 }
 
@@ -136,7 +224,7 @@ Result<std::vector<Eigen::Vector3d>> ReadPointCloudXyz(const std::string& path) 
     return Error{path + ": not a point cloud file (expected .pcd or .ply)"};
   const uintmax_t bytes = std::filesystem::file_size(path);
   if (bytes == 0) return Error{path + ": empty file"};
-  const Result<DeclaredCloud> declared = ReadDeclaredCloud(path, ply);
+  const Result<DeclaredCloud> declared = ply ? ReadDeclaredPly(path) : ReadDeclaredPcd(path);
   if (!declared) return Error{declared.error()};
   if (declared->points > kMaxCloudPoints)
     return Error{path + ": header declares " + std::to_string(std::llround(declared->points)) +

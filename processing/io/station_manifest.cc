@@ -180,6 +180,8 @@ Result<StationManifest> ManifestFromJson(const std::string& text, const std::str
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
     return Error{source + ": malformed or truncated JSON at byte " + std::to_string(e.byte)};
+  } catch (const json::exception& e) {  // a number beyond a double, found by the fuzzer
+    return Error{source + ": not a valid manifest: " + e.what()};
   }
   try {
     const JsonObject root(doc, "");

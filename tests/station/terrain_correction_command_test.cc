@@ -64,6 +64,13 @@ TEST(TerrainCorrectionCommand, BadInputGivesOneClearError) {
             std::string::npos);
   EXPECT_NE(error_of((dir / "d.tif") + " --station 5,5 --station-z inf").find("finite"),
             std::string::npos);
+  // A height no ground has (a float's 3e38: an undeclared nodata value).
+  Raster spike = Raster::Make(0, 10, 1.0, 10, 10, 5.0f);
+  spike.at(3, 4) = 3e38f;
+  ASSERT_TRUE(WriteGeoTiff(spike, dir / "spike.tif"));
+  EXPECT_NE(error_of((dir / "spike.tif") + " --station 5,5")
+                .find("spike.tif: cell (row 3, column 4) holds 3e+38 m, a height no ground has"),
+            std::string::npos);
   // Degrees taken for metres: a DEM in EPSG:4326 is refused, naming the file and the cure.
   Raster degrees = Raster::Make(10.0, 47.0, 1e-5, 10, 10, 5.0f);
   OGRSpatialReference wgs84;
