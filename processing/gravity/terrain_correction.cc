@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <tuple>
 
 #include "processing/gravity/prism.h"
 
@@ -95,7 +94,7 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
     return z - tie(std::hypot(x, y));
   };
   std::vector<double> ring_sum(kRings, 0.0);
-  std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0);
+  std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0), ring_seen(kRings, 0);
   std::vector<double> ring_variance(kRings, 0.0), ring_unseen(kRings, 0.0);
   double correlated = 0.0;
   const double half = 0.5 * dem.cell_m;
@@ -111,6 +110,7 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       const CellGround kind =
           ground ? (*ground)[static_cast<size_t>(r) * dem.cols + c] : CellGround::kSeen;
       ring_data[ring] += kind != CellGround::kEstimated;
+      ring_seen[ring] += kind == CellGround::kSeen;
       double value = 0.0;
       const bool refine = d - half * M_SQRT2 < o.refine_radius_m;
       if (refine) {
@@ -167,19 +167,27 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
     tc.rings.push_back(ring);
   }
   // Rings 0-2 and 2-10 m lie within 10 m, 0-30 m within 30 m.
-  auto covered = [&](int rings) {
-    int cells = 0, data = 0;
-    for (int k = 0; k < rings; ++k) cells += ring_cells[k], data += ring_data[k];
-    return cells > 0 ? static_cast<double>(data) / cells : 1.0;
+  auto share = [&](const std::vector<int>& counted, int rings) {
+    int cells = 0, n = 0;
+    for (int k = 0; k < rings; ++k) cells += ring_cells[k], n += counted[k];
+    return cells > 0 ? static_cast<double>(n) / cells : 1.0;
   };
-  for (const auto& [rings, radius, minimum] :
-       {std::tuple{2, 10, o.min_coverage_10m}, std::tuple{4, 30, o.min_coverage_30m}}) {
-    if (!tc.Usable() || covered(rings) >= minimum) continue;
-    char text[160];
+  const struct {
+    const std::vector<int>& counted;
+    int rings, radius;
+    double minimum;
+    const char* what;
+  } needs[] = {{ring_data, 2, 10, o.min_coverage_10m, "has DEM data"},
+               {ring_data, 4, 30, o.min_coverage_30m, "has DEM data"},
+               {ring_seen, 4, 30, o.min_seen_30m, "was seen (a ground point in the cell)"}};
+  for (const auto& need : needs) {
+    const double got = share(need.counted, need.rings);
+    if (!tc.Usable() || got >= need.minimum) continue;
+    char text[200];
     std::snprintf(text, sizeof text,
-                  "only %.0f %% of the ground within %d m has data (%.0f %% needed): too little "
-                  "was seen to estimate the rest",
-                  100 * covered(rings), radius, 100 * minimum);
+                  "only %.0f %% of the ground within %d m %s (%.0f %% needed): too little to "
+                  "estimate the rest from",
+                  100 * got, need.radius, need.what, 100 * need.minimum);
     tc.unusable_because = text;
   }
   return tc;

@@ -223,7 +223,7 @@ TEST(TerrainCorrection, TooLittleSeenGroundIsUnusableNotATightSigma) {
   TerrainCorrectionOptions o;
   TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, o);
   EXPECT_FALSE(tc.Usable());
-  EXPECT_NE(tc.unusable_because.find("of the ground within 10 m has data (50 % needed)"),
+  EXPECT_NE(tc.unusable_because.find("of the ground within 10 m has DEM data (50 % needed)"),
             std::string::npos)
       << tc.unusable_because;
   const nlohmann::json j = TerrainCorrectionToJson(tc, o, {0, 0, 0});
@@ -238,6 +238,18 @@ TEST(TerrainCorrection, TooLittleSeenGroundIsUnusableNotATightSigma) {
   tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, o);
   EXPECT_TRUE(tc.Usable()) << tc.unusable_because;
   EXPECT_EQ(TerrainCorrectionToJson(tc, o, {0, 0, 0})["verdict"], "usable");
+  // Data everywhere, but kriged from a few points: one cell in 25 seen (4 %) is unusable, one
+  // in 4 (25 %) is not.
+  for (int every : {5, 2}) {
+    std::vector<CellGround> kind(dem.values.size(), CellGround::kUnseen);
+    for (int r = 0; r < 60; r += every)
+      for (int c = 0; c < 60; c += every) kind[static_cast<size_t>(r) * 60 + c] = CellGround::kSeen;
+    tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, o, &kind);
+    EXPECT_EQ(tc.Usable(), every == 2) << every << ": " << tc.unusable_because;
+    if (every == 5) {
+      EXPECT_NE(tc.unusable_because.find("of the ground within 30 m was seen"), std::string::npos);
+    }
+  }
 }
 
 }  // namespace
