@@ -41,7 +41,10 @@ struct CaptureOptions {
   std::chrono::milliseconds home_timeout{30000};
   std::chrono::milliseconds move_timeout{20000};
   std::chrono::milliseconds frame_timeout{3000};
-  int frame_attempts = 3;  // triggers per pair before a camera counts as lost
+  int frame_attempts = 3;  // triggers with a camera not answering before it counts as lost
+  // While both cameras still answer their control channel, a late or torn frame is a busy
+  // laptop or network, not a lost camera: the pair is triggered again for this long.
+  std::chrono::milliseconds pair_budget{60000};
   int max_retakes = 4;     // exposure corrections per pair
   std::chrono::milliseconds reconnect_budget{6000};
   template <class Self, class V>
@@ -56,7 +59,9 @@ struct CaptureOptions {
     v("move_timeout", self.move_timeout, {"a move may take this long", "ms", 1000, 600000});
     v("frame_timeout", self.frame_timeout, {"a frame may take this long", "ms", 100, 120000});
     v("frame_attempts", self.frame_attempts,
-      {"triggers per pair before a camera counts as lost", "", 1, 100});
+      {"triggers with a camera not answering before it counts as lost", "", 1, 100});
+    v("pair_budget", self.pair_budget,
+      {"a pair whose cameras still answer is triggered again for this long", "ms", 0, 600000});
     v("max_retakes", self.max_retakes, {"exposure corrections per pair", "", 0, 100});
     v("reconnect_budget", self.reconnect_budget, {"time to reopen a lost camera", "ms", 0, 600000});
     v.Group("plan", self.plan);

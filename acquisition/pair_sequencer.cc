@@ -18,7 +18,9 @@ std::string PairName(int index) {
 Result<std::pair<Frame, Frame>> PairSequencer::GrabBoth(int index) {
   std::string last_error;
   int failures[2] = {0, 0};
-  for (int attempt = 0; attempt < o_.frame_attempts; ++attempt) {
+  int counted = 0, attempt = 0;
+  const auto first_trigger = Clock::now();
+  for (; counted < o_.frame_attempts; ++attempt) {
     if (attempt > 0) ++summary_->frame_retries;
     // Each camera answers for itself: a trigger the right camera missed says nothing about
     // the left one (whose frame, if any, is waited for and dropped with the pair).
@@ -37,6 +39,8 @@ Result<std::pair<Frame, Frame>> PairSequencer::GrabBoth(int index) {
     }
     last_error = !l ? l.error() : r.error();
     Emit({CaptureEventKind::kFrameRetry, index, 0, last_error});
+    const bool answering = !left_.ControlLost() && !right_.ControlLost();
+    if (!answering || Clock::now() - first_trigger >= o_.pair_budget) ++counted;
     // A camera that lost its control channel, or failed twice, is opened again.
     for (int i = 0; i < 2; ++i) {
       Camera& c = i == 0 ? left_ : right_;
@@ -49,7 +53,7 @@ Result<std::pair<Frame, Frame>> PairSequencer::GrabBoth(int index) {
     }
   }
   return Error{"no complete frame pair at " + PairName(index) + " after " +
-               std::to_string(o_.frame_attempts) + " triggers: " + last_error};
+               std::to_string(attempt) + " triggers: " + last_error};
 }
 
 Result<PairFrames> PairSequencer::TakePair(int index, int total) {
