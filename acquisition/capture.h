@@ -45,7 +45,7 @@ struct CaptureOptions {
   // While both cameras still answer their control channel, a late or torn frame is a busy
   // laptop or network, not a lost camera: the pair is triggered again for this long.
   std::chrono::milliseconds pair_budget{60000};
-  int max_retakes = 4;     // exposure corrections per pair
+  int max_retakes = 4;  // exposure corrections per pair
   std::chrono::milliseconds reconnect_budget{6000};
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
