@@ -37,7 +37,6 @@ DemInput LoadDemInput(const std::string& input) {
   in.dem = std::move(*dem);
   // Heights no ground on Earth has (a float's 3e38, a nodata value left undeclared) would
   // make a terrain correction of them.
-  constexpr float kHighestGroundM = 9000.0f, kLowestGroundM = -11000.0f;
   for (size_t i = 0; i < in.dem.values.size(); ++i) {
     const float h = in.dem.values[i];
     if (!Raster::IsNoData(h) && (h > kHighestGroundM || h < kLowestGroundM))

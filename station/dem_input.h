@@ -19,7 +19,10 @@ struct DemInput {
   std::optional<Eigen::Vector3d> station_mark;  // station directories only
 };
 
-// Throws CommandError naming the file at fault.
+// Heights no ground on Earth has: a DEM cell or a station mark beyond them is refused.
+inline constexpr float kHighestGroundM = 9000.0f, kLowestGroundM = -11000.0f;
+
+// Throws CommandError naming the file at fault (also for a cell beyond the heights above).
 DemInput LoadDemInput(const std::string& input);
 
 }  // namespace ts

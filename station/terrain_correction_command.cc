@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/options.h"
 #include "processing/gravity/terrain_correction_json.h"
 #include "processing/io/atomic_file.h"
 #include "processing/io/raster.h"
@@ -46,6 +47,9 @@ void Run(const TerrainCorrectionArgs& args) {
     mark.x() = args.station_xy[0], mark.y() = args.station_xy[1];
     if (!mark.head<2>().allFinite() || std::isinf(args.station_z))
       throw CommandError("terrain-correction: --station and --station-z must be finite numbers");
+    if (args.station_z > kHighestGroundM || args.station_z < kLowestGroundM)
+      throw CommandError("terrain-correction: --station-z " + OptionNumberText(args.station_z) +
+                         " m is a height no ground has");
     mark.z() = std::isfinite(args.station_z) ? args.station_z : dem.Interpolate(mark.x(), mark.y());
     if (!std::isfinite(mark.z()))
       throw CommandError(in.dem_file + ": no height at the station " + std::to_string(mark.x()) +

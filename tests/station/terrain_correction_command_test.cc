@@ -64,6 +64,9 @@ TEST(TerrainCorrectionCommand, BadInputGivesOneClearError) {
             std::string::npos);
   EXPECT_NE(error_of((dir / "d.tif") + " --station 5,5 --station-z inf").find("finite"),
             std::string::npos);
+  EXPECT_NE(error_of((dir / "d.tif") + " --station 5,5 --station-z 1e300")
+                .find("--station-z 1e+300 m is a height no ground has"),
+            std::string::npos);
   // A height no ground has (a float's 3e38: an undeclared nodata value).
   Raster spike = Raster::Make(0, 10, 1.0, 10, 10, 5.0f);
   spike.at(3, 4) = 3e38f;
