@@ -182,6 +182,11 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
   Clock::time_point pair_started = Clock::now();
   for (size_t k = 0; k < missing.size(); ++k) {
     const int index = missing[k];
+    if (stage.interrupted()) {  // between pairs: nothing half-written, the stage stopped
+      if (Status s = stage.Stop(); !s) return Error{s.error()};
+      return Error{std::string("capture ") + Stage::kInterruptedMessage + " before " +
+                   PairName(index)};
+    }
     seq.Emit({CaptureEventKind::kMoving, index, summary.total_pairs, "",
               summary.already_present + summary.captured_now});
     seq.timeline = {};

@@ -90,6 +90,7 @@ class ModbusStage : public Stage {
     const auto deadline = Clock::now() + timeout;
     while (Clock::now() < deadline) {
       std::this_thread::sleep_for(options_.poll_interval);
+      if (interrupted()) return StopInterrupted();
       bool done = true;
       for (Axis axis : {Axis::kPan, Axis::kTilt}) {
         const Result<AxisState> a = ReadAxis(axis);
@@ -134,6 +135,7 @@ class ModbusStage : public Stage {
     std::this_thread::sleep_until(move_started_ + options_.poll_interval);
     Clock::time_point within_tolerance{};
     while (Clock::now() < deadline) {
+      if (interrupted()) return StopInterrupted();
       bool done = true, near = true;
       StagePose pose;
       for (Axis axis : {Axis::kPan, Axis::kTilt}) {
@@ -190,6 +192,11 @@ class ModbusStage : public Stage {
   void StopQuietly() {
     if (Status s = Stop(); !s) {
     }
+  }
+
+  Error StopInterrupted() {
+    StopQuietly();
+    return Error{description_ + ": " + kInterruptedMessage};
   }
 
   Error AlarmError(Axis axis, const AxisState& a) {

@@ -4,7 +4,9 @@
 //
 // Lifecycle: open (backend factory) -> Identify() -> Home() -> MoveTo()/StartMove()+
 // WaitInPosition() ... -> destroy. Every call returns a Status/Result and never throws or
-// aborts: a crash could leave the stage moving. Not thread-safe: one owner thread.
+// aborts: a crash could leave the stage moving. Not thread-safe: one owner thread, except
+// Interrupt(), which any thread may call (a job cancelled from the daemon's API).
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -63,11 +65,20 @@ class Stage {
   // Of the last WaitInPosition() that succeeded.
   virtual MoveTiming last_move_timing() const { return {}; }
 
+  // From any thread: the wait in progress (and every later Home or wait) stops the stage and
+  // fails with kInterruptedMessage, within one status poll.
+  void Interrupt() { interrupted_ = true; }
+  bool interrupted() const { return interrupted_; }
+  static constexpr const char* kInterruptedMessage = "interrupted: the stage was stopped";
+
   Result<StagePose> MoveTo(const StagePose& target, double tolerance_deg,
                            std::chrono::milliseconds timeout) {
     if (Status s = StartMove(target); !s) return Error{s.error()};
     return WaitInPosition(tolerance_deg, timeout);
   }
+
+ private:
+  std::atomic<bool> interrupted_{false};
 };
 
 }  // namespace ts

@@ -103,6 +103,18 @@ std::vector<double> YamlMap::Doubles(const std::string& key, size_t count) {
   return out;
 }
 
+std::vector<std::string> YamlMap::Strings(const std::string& key) {
+  const YAML::Node v = Get(key);
+  if (!v.IsSequence()) Fail(key, "must be a list of strings");
+  std::vector<std::string> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!v[i].IsScalar() || v[i].Scalar().empty())
+      Fail(key, "element " + std::to_string(i) + " must be a non-empty string");
+    out.push_back(v[i].Scalar());
+  }
+  return out;
+}
+
 Eigen::Vector3d YamlMap::Vector3(const std::string& key, const Eigen::Vector3d& fallback) {
   if (!Has(key)) return used_.insert(key), fallback;
   const std::vector<double> v = Doubles(key, 3);

@@ -37,6 +37,7 @@ class YamlMap {
   std::string String(const std::string& key, const std::string& fallback);
   // Fixed-length list of finite numbers.
   std::vector<double> Doubles(const std::string& key, size_t count);
+  std::vector<std::string> Strings(const std::string& key);
   Eigen::Vector3d Vector3(const std::string& key, const Eigen::Vector3d& fallback);
   // A list of mappings, each with the path "key[i]".
   std::vector<YamlMap> Maps(const std::string& key);

@@ -1,0 +1,111 @@
+#include "station/daemon/job_request.h"
+
+#include <cmath>
+#include <set>
+
+#include "station/daemon/daemon_config.h"
+
+namespace ts::daemon {
+namespace {
+
+constexpr size_t kMaxTextChars = 2000;
+constexpr size_t kMaxGcps = 100;
+
+Status CheckText(const nlohmann::json& body, const char* key) {
+  if (!body.contains(key)) return {};
+  const nlohmann::json& v = body[key];
+  if (!v.is_string() || v.get_ref<const std::string&>().size() > kMaxTextChars)
+    return Error{std::string(key) + ": must be text of at most 2000 characters"};
+  return {};
+}
+
+Status CheckNumber(const nlohmann::json& object, const std::string& path, const char* key,
+                   double lo, double hi, bool required) {
+  if (!object.contains(key)) {
+    if (required) return Error{path + key + ": missing"};
+    return {};
+  }
+  const nlohmann::json& v = object[key];
+  if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo ||
+      v.get<double>() > hi)
+    return Error{path + key + ": must be a number within " + std::to_string(lo) + " and " +
+                 std::to_string(hi)};
+  return {};
+}
+
+Status CheckKeys(const nlohmann::json& object, const std::string& path,
+                 const std::set<std::string>& known) {
+  for (const auto& [key, value] : object.items())
+    if (!known.count(key)) return Error{path + key + ": unknown field"};
+  return {};
+}
+
+Status CheckGnss(const nlohmann::json& g) {
+  if (!g.is_object()) return Error{"gnss: must be an object"};
+  if (Status s = CheckKeys(g, "gnss.", {"lat_deg", "lon_deg", "height_m", "sigma_m"}); !s) return s;
+  for (Status s : {CheckNumber(g, "gnss.", "lat_deg", -90, 90, true),
+                   CheckNumber(g, "gnss.", "lon_deg", -180, 180, true),
+                   CheckNumber(g, "gnss.", "height_m", -11000, 9000, false),
+                   CheckNumber(g, "gnss.", "sigma_m", 0, 1000, false)})
+    if (!s) return s;
+  return {};
+}
+
+Status CheckGcps(const nlohmann::json& list) {
+  if (!list.is_array() || list.size() > kMaxGcps)
+    return Error{"gcps: must be a list of at most 100 points"};
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "gcps[" + std::to_string(i) + "].";
+    const nlohmann::json& p = list[i];
+    if (!p.is_object()) return Error{path + ": must be an object"};
+    if (Status s = CheckKeys(p, path, {"id", "x", "y", "z", "sigma_m"}); !s) return s;
+    if (!p.contains("id") || !p["id"].is_string() || !IsStationId(p["id"].get<std::string>()))
+      return Error{path + "id: must be [A-Za-z0-9_-]{1,64}"};
+    for (const char* axis : {"x", "y", "z"})
+      if (Status s = CheckNumber(p, path, axis, -1e8, 1e8, true); !s) return s;
+    if (Status s = CheckNumber(p, path, "sigma_m", 0, 100, false); !s) return s;
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
+  if (!body.is_object()) return Error{"the body must be a JSON object"};
+  if (Status s = CheckKeys(body, "",
+                           {"kind", "station", "line", "instrument_height_m", "operator", "notes",
+                            "gnss", "gcps", "single_row"});
+      !s)
+    return Error{s.error()};
+  JobRequest r;
+  if (!body.contains("kind") || !body["kind"].is_string() ||
+      !JobKindFromName(body["kind"].get<std::string>()))
+    return Error{"kind: must be survey, capture or process"};
+  r.kind = *JobKindFromName(body["kind"].get<std::string>());
+  if (!body.contains("station") || !body["station"].is_string() ||
+      !IsStationId(body["station"].get<std::string>()))
+    return Error{"station: must be 1-64 letters, digits, '_' or '-'"};
+  r.station = body["station"].get<std::string>();
+  for (const char* key : {"line", "operator", "notes"})
+    if (Status s = CheckText(body, key); !s) return Error{s.error()};
+  if (UsesRig(r.kind)) {
+    if (Status s = CheckNumber(body, "", "instrument_height_m", 0.05, 10, true); !s)
+      return Error{s.error()};
+    r.instrument_height_m = body["instrument_height_m"].get<double>();
+  } else if (body.contains("instrument_height_m")) {
+    return Error{"instrument_height_m: a process job takes the station's own"};
+  }
+  if (body.contains("gnss"))
+    if (Status s = CheckGnss(body["gnss"]); !s) return Error{s.error()};
+  if (body.contains("gcps"))
+    if (Status s = CheckGcps(body["gcps"]); !s) return Error{s.error()};
+  if (body.contains("single_row")) {
+    if (!body["single_row"].is_boolean()) return Error{"single_row: must be true or false"};
+    r.single_row = body["single_row"].get<bool>();
+  }
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
+}  // namespace ts::daemon

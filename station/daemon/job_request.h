@@ -1,0 +1,29 @@
+#pragma once
+// What a client may ask of a job (POST /jobs), checked field by field before anything is
+// created: the station fields a gravity crew records, and the few capture choices.
+//
+//   {"kind": "survey" | "capture" | "process", "station": "G-0412", "line": "L7",
+//    "instrument_height_m": 1.52, "operator": "...", "notes": "...",
+//    "gnss": {"lat_deg": 47.1, "lon_deg": 8.3, "height_m": 512.0, "sigma_m": 0.02},
+//    "gcps": [{"id": "p1", "x": ..., "y": ..., "z": ..., "sigma_m": 0.02}],
+//    "single_row": false}
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/result.h"
+#include "station/daemon/job_store.h"
+
+namespace ts::daemon {
+
+struct JobRequest {
+  JobKind kind = JobKind::kSurvey;
+  std::string station;
+  nlohmann::json fields;  // the request less kind: kept as the job's parameters
+  double instrument_height_m = 0.0;
+  bool single_row = false;
+};
+
+// Errors name the field: "instrument_height_m: must be within (0, 10] m".
+Result<JobRequest> ParseJobRequest(const nlohmann::json& body);
+
+}  // namespace ts::daemon

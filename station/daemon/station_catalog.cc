@@ -1,0 +1,108 @@
+#include "station/daemon/station_catalog.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "processing/io/station_manifest.h"
+#include "station/daemon/daemon_config.h"
+
+namespace ts::daemon {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json ReadJsonOrNull(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) return nullptr;
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+std::vector<std::string> Products(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir / "products", ec))
+    if (e.is_regular_file() && IsProductName(e.path().filename().string()))
+      names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+nlohmann::json Summary(const std::string& id, const fs::path& dir) {
+  const nlohmann::json manifest = ReadJsonOrNull(dir / kManifestFileName);
+  const nlohmann::json report = ReadJsonOrNull(dir / "products/report.json");
+  const nlohmann::json fields = ReadJsonOrNull(dir / "station_fields.json");
+  nlohmann::json s = {{"id", id}, {"processed", report.is_object()}};
+  if (manifest.is_object()) {
+    s["created_utc"] = manifest.value("created_utc", "");
+    s["pairs"] = manifest.contains("pairs") ? manifest["pairs"].size() : 0;
+    s["planned_pairs"] = manifest.contains("plan") ? manifest["plan"].size() : 0;
+  }
+  if (fields.is_object())
+    for (const char* key : {"line", "operator", "instrument_height_m"})
+      if (fields.contains(key)) s[key] = fields[key];
+  if (report.is_object())
+    for (const char* key : {"terrain_correction_mgal", "terrain_correction_sigma_mgal", "verdict"})
+      if (report.contains(key)) s[key] = report[key];
+  return s;
+}
+
+}  // namespace
+
+bool IsProductName(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name[0] == '.') return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+      return false;
+  return true;
+}
+
+const char* ContentTypeOf(const std::string& name) {
+  const std::string ext = fs::path(name).extension().string();
+  if (ext == ".json") return "application/json";
+  if (ext == ".png") return "image/png";
+  if (ext == ".jpg") return "image/jpeg";
+  if (ext == ".tif") return "image/tiff";
+  if (ext == ".csv") return "text/csv";
+  return "application/octet-stream";
+}
+
+nlohmann::json StationCatalog::List() const {
+  nlohmann::json list = nlohmann::json::array();
+  std::error_code ec;
+  std::vector<std::pair<fs::file_time_type, std::string>> found;
+  for (const auto& e : fs::directory_iterator(dir_, ec)) {
+    const std::string id = e.path().filename().string();
+    if (IsStationId(id) && e.is_directory() && fs::exists(e.path() / kManifestFileName))
+      found.emplace_back(fs::last_write_time(e.path() / kManifestFileName, ec), id);
+  }
+  std::sort(found.rbegin(), found.rend());
+  for (const auto& [time, id] : found) list.push_back(Summary(id, fs::path(dir_) / id));
+  return list;
+}
+
+std::optional<nlohmann::json> StationCatalog::Get(const std::string& id) const {
+  if (!IsStationId(id)) return std::nullopt;
+  const fs::path dir = fs::path(dir_) / id;
+  if (!fs::exists(dir / kManifestFileName)) return std::nullopt;
+  nlohmann::json j = Summary(id, dir);
+  j["manifest"] = ReadJsonOrNull(dir / kManifestFileName);
+  j["fields"] = ReadJsonOrNull(dir / "station_fields.json");
+  j["report"] = ReadJsonOrNull(dir / "products/report.json");
+  j["terrain_correction"] = ReadJsonOrNull(dir / "products/terrain_correction.json");
+  j["products"] = Products(dir);
+  return j;
+}
+
+std::optional<std::string> StationCatalog::ProductPath(const std::string& id,
+                                                       const std::string& name) const {
+  if (!IsStationId(id) || !IsProductName(name)) return std::nullopt;
+  const fs::path products = fs::path(dir_) / id / "products";
+  const fs::path file = products / name;
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(file, ec))) return std::nullopt;
+  const fs::path real = fs::canonical(file, ec);
+  if (ec || real.parent_path() != fs::canonical(products, ec)) return std::nullopt;
+  return real.string();
+}
+
+}  // namespace ts::daemon
