@@ -1,0 +1,56 @@
+#include "station/daemon/job_request.h"
+
+#include <gtest/gtest.h>
+
+namespace ts::daemon {
+namespace {
+
+TEST(JobRequest, ASurveyTakesTheFieldsAGravityCrewRecords) {
+  const Result<JobRequest> r =
+      ParseJobRequest({{"kind", "survey"},
+                       {"station", "G-0412"},
+                       {"line", "L7"},
+                       {"instrument_height_m", 1.52},
+                       {"operator", "A. Surveyor"},
+                       {"notes", "windy"},
+                       {"gnss", {{"lat_deg", 47.1}, {"lon_deg", 8.3}, {"height_m", 512.0}}},
+                       {"gcps", {{{"id", "p1"}, {"x", 1.0}, {"y", 2.0}, {"z", 3.0}}}}});
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->kind, JobKind::kSurvey);
+  EXPECT_EQ(r->station, "G-0412");
+  EXPECT_EQ(r->instrument_height_m, 1.52);
+  EXPECT_EQ(r->fields["line"], "L7");
+  EXPECT_FALSE(r->fields.contains("kind"));
+}
+
+TEST(JobRequest, EachBadFieldIsNamed) {
+  const nlohmann::json good = {{"kind", "survey"}, {"station", "S1"}, {"instrument_height_m", 1.5}};
+  const std::pair<nlohmann::json, std::string> cases[] = {
+      {{{"kind", "dance"}}, "kind"},
+      {{{"station", "../../etc"}}, "station"},
+      {{{"station", std::string(65, 's')}}, "station"},
+      {{{"instrument_height_m", -1}}, "instrument_height_m"},
+      {{{"instrument_height_m", "1.5"}}, "instrument_height_m"},
+      {{{"instrument_height_m", 1e308}}, "instrument_height_m"},
+      {{{"operator", std::string(3000, 'x')}}, "operator"},
+      {{{"gnss", {{"lat_deg", 91}, {"lon_deg", 0}}}}, "gnss.lat_deg"},
+      {{{"gnss", {{"lon_deg", 0}}}}, "gnss.lat_deg: missing"},
+      {{{"gcps", {{{"id", "a/b"}, {"x", 0}, {"y", 0}, {"z", 0}}}}}, "gcps[0].id"},
+      {{{"gcps", {{{"id", "a"}, {"x", 0}, {"y", 0}}}}}, "gcps[0].z"},
+      {{{"single_row", 1}}, "single_row"},
+      {{{"stations", "S2"}}, "stations: unknown field"},
+  };
+  for (const auto& [change, field] : cases) {
+    nlohmann::json body = good;
+    body.update(change);
+    const Result<JobRequest> r = ParseJobRequest(body);
+    ASSERT_FALSE(r.ok()) << body.dump();
+    EXPECT_NE(r.error().find(field), std::string::npos) << r.error();
+  }
+  EXPECT_FALSE(ParseJobRequest({{"kind", "survey"}, {"station", "S1"}}).ok());  // no height
+  EXPECT_FALSE(ParseJobRequest(nlohmann::json::array()).ok());
+  EXPECT_TRUE(ParseJobRequest({{"kind", "process"}, {"station", "S1"}}).ok());
+}
+
+}  // namespace
+}  // namespace ts::daemon
