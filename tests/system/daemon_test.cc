@@ -1,0 +1,464 @@
+// topostationd against the simulated station on loopback: a whole survey through the API, the
+// API's guards, a kill -9 in the middle of a capture and of processing, a cancel, devices lost
+// and back, and the headless unit. The daemon runs as a process of its own.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "processing/io/calibration_yaml.h"
+#include "processing/io/station_manifest.h"
+#include "processing/io/station_validator.h"
+#include "sim/sim_server.h"
+#include "tests/common/daemon_process.h"
+#include "tests/common/temp_dir.h"
+
+namespace ts {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::DaemonProcess;
+using testing::Finished;
+
+const nlohmann::json kSurvey = {{"kind", "survey"},   {"station", "S1"},
+                                {"line", "L7"},       {"instrument_height_m", 1.52},
+                                {"operator", "test"}, {"single_row", true}};
+
+class DaemonTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sim::SimStationOptions options;
+    options.scene = "hills";
+    options.seed = 2;
+    station_ = *sim::BuildSimStation(options);
+  }
+
+  void Serve() {
+    sim::SimServeOptions o;
+    o.stage_port = kStagePort;
+    o.stage_pty = false;
+    auto server = sim::SimServer::Start(station_, o);
+    ASSERT_TRUE(server.ok()) << server.error();
+    server_ = std::move(*server);
+  }
+
+  // The simulated rig with its true calibration (matching, not calibration, is not tested here).
+  std::string WriteRig() {
+    const std::string cal = dir_ / "calibration.yaml", rig = dir_ / "rig.yaml";
+    EXPECT_TRUE(SaveCalibrationYaml(station_->rig.truth, cal).ok());
+    std::ofstream(rig) << "schema_version: 1\nname: simulated-rig\ndevices:\n"
+                       << "  left_camera: {id: TS-SIM-L}\n  right_camera: {id: TS-SIM-R}\n"
+                       << "  stage: {transport: tcp, host: 127.0.0.1, port: " << kStagePort
+                       << "}\ncalibration_file: calibration.yaml\n";
+    return rig;
+  }
+
+  std::unique_ptr<DaemonProcess> StartDaemon(const std::string& extra_yaml = "") {
+    auto d =
+        std::make_unique<DaemonProcess>(dir_.path().string(), kApiPort, WriteRig(), extra_yaml);
+    EXPECT_TRUE(d->Start()) << d->log();
+    return d;
+  }
+
+  static bool WaitReady(const DaemonProcess& d) {
+    for (int i = 0; i < 100; ++i) {
+      const nlohmann::json s = d.GetJson("/status");
+      if (s.is_object() && s["ready"] == true) return true;
+      std::this_thread::sleep_for(100ms);
+    }
+    return false;
+  }
+
+  // Starts a survey and returns its job id (0 when refused).
+  static int64_t StartSurvey(const DaemonProcess& d, nlohmann::json body = kSurvey) {
+    auto r = d.Post("/jobs", body);
+    if (!r || r->status != 201) return 0;
+    return nlohmann::json::parse(r->body)["id"].get<int64_t>();
+  }
+
+  static int PairsDone(const DaemonProcess& d) {
+    const nlohmann::json job = d.GetJson("/status")["current_job"];
+    return job.is_object() ? job.value("pairs_done", 0) : 0;
+  }
+
+  static constexpr int kStagePort = 15320;
+  static constexpr int kApiPort = 18321;
+  static std::shared_ptr<const sim::SimStation> station_;
+  testing::TempDir dir_;
+  std::unique_ptr<sim::SimServer> server_;
+};
+std::shared_ptr<const sim::SimStation> DaemonTest::station_;
+
+// Server-sent events read on a thread of their own until `stop` is set.
+class EventReader {
+ public:
+  explicit EventReader(const DaemonProcess& d)
+      : client_(std::make_unique<httplib::Client>(d.Client())) {
+    thread_ = std::thread([this] {
+      std::string buffer;
+      client_->Get("/api/v1/events", [&](const char* data, size_t n) {
+        buffer.append(data, n);
+        for (size_t end; (end = buffer.find("\n\n")) != std::string::npos;) {
+          Parse(buffer.substr(0, end));
+          buffer.erase(0, end + 2);
+        }
+        return !stop_;
+      });
+    });
+  }
+  ~EventReader() {
+    stop_ = true;
+    client_->stop();  // without waiting for the next heartbeat
+    thread_.join();
+  }
+  std::vector<std::pair<uint64_t, std::pair<std::string, nlohmann::json>>> events() {
+    std::lock_guard lock(mutex_);
+    return events_;
+  }
+
+ private:
+  void Parse(const std::string& block) {
+    uint64_t id = 0;
+    std::string type, data;
+    std::istringstream lines(block);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("id: ", 0) == 0) id = std::stoull(line.substr(4));
+      if (line.rfind("event: ", 0) == 0) type = line.substr(7);
+      if (line.rfind("data: ", 0) == 0) data = line.substr(6);
+    }
+    if (type.empty()) return;  // a heartbeat
+    std::lock_guard lock(mutex_);
+    events_.push_back({id, {type, nlohmann::json::parse(data)}});
+  }
+  std::atomic<bool> stop_{false};
+  std::unique_ptr<httplib::Client> client_;
+  std::mutex mutex_;
+  std::vector<std::pair<uint64_t, std::pair<std::string, nlohmann::json>>> events_;
+  std::thread thread_;
+};
+
+std::string ReadFile(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) {
+  Serve();
+  auto d = StartDaemon();
+  ASSERT_TRUE(WaitReady(*d)) << d->GetJson("/status").dump();
+  EventReader reader(*d);
+  std::this_thread::sleep_for(300ms);
+  const auto started = std::chrono::steady_clock::now();
+  // A double click over a bad link: one survey.
+  auto first = d->Post("/jobs", kSurvey, {{"Idempotency-Key", "click-1"}});
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 201) << first->body;
+  auto again = d->Post("/jobs", kSurvey, {{"Idempotency-Key", "click-1"}});
+  ASSERT_EQ(again->status, 200) << again->body;
+  const int64_t id = nlohmann::json::parse(first->body)["id"];
+  EXPECT_EQ(nlohmann::json::parse(again->body)["id"], id);
+  // A second rig job while this one runs: 409 with who holds the rig.
+  nlohmann::json other = kSurvey;
+  other["station"] = "S2";
+  auto busy = d->Post("/jobs", other);
+  EXPECT_EQ(busy->status, 409);
+  EXPECT_NE(busy->body.find("in use"), std::string::npos) << busy->body;
+
+  const nlohmann::json job = d->WaitForJob(id, Finished);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  ASSERT_EQ(job["state"], "done") << job.dump() << d->log();
+  EXPECT_EQ(job["summary"]["pairs"], 12);
+  EXPECT_EQ(job["summary"]["verdict"], "usable") << job.dump();
+  EXPECT_GT(job["summary"]["terrain_correction_sigma_mgal"].get<double>(), 0.0);
+  std::this_thread::sleep_for(1s);  // the last events
+
+  // Events: a snapshot first, progress per pair at most twice a second, the job's end.
+  const auto events = reader.events();
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().second.first, "snapshot");
+  int progress = 0, last_pairs = 0;
+  bool saw_done = false;
+  for (size_t i = 0; i < events.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GT(events[i].first, events[i - 1].first);
+    }
+    const auto& [type, data] = events[i].second;
+    if (type == "progress") {
+      ++progress;
+      EXPECT_GE(data.value("pairs_done", 0), last_pairs);
+      last_pairs = data.value("pairs_done", last_pairs);
+    }
+    saw_done = saw_done || (type == "job" && data["state"] == "done");
+  }
+  EXPECT_GE(progress, 5);
+  EXPECT_LE(progress, 2 * seconds + 3);
+  EXPECT_TRUE(saw_done);
+
+  // The station as the API shows it, and every product equal to its file.
+  const nlohmann::json station = d->GetJson("/stations/S1");
+  ASSERT_TRUE(station.is_object());
+  EXPECT_EQ(station["fields"]["line"], "L7");
+  EXPECT_EQ(station["manifest"]["calibration"]["stage"]["height_above_mark_m"], 1.52);
+  EXPECT_TRUE(station["terrain_correction"].is_object());
+  const std::set<std::string> names = station["products"];
+  for (const char* expected : {"dem.tif", "dem_std.tif", "points.ply", "panorama.png",
+                               "terrain_correction.json", "report.json"})
+    EXPECT_TRUE(names.count(expected)) << expected;
+  for (const std::string& name : names) {
+    auto r = d->Client().Get(("/api/v1/stations/S1/products/" + name).c_str());
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << name;
+    EXPECT_EQ(r->body, ReadFile(d->stations_dir() + "/S1/products/" + name)) << name;
+  }
+  EXPECT_EQ(d->GetJson("/stations").size(), 1u);
+  const Result<StationManifest> m =
+      ValidateStation(d->stations_dir() + "/S1", {.require_complete = true});
+  EXPECT_TRUE(m.ok()) << m.error();
+  // A preview now comes from the camera itself.
+  auto jpeg = d->Client().Get("/api/v1/cameras/left/snapshot.jpg");
+  ASSERT_TRUE(jpeg);
+  EXPECT_EQ(jpeg->status, 200) << jpeg->body;
+  EXPECT_EQ(jpeg->get_header_value("Content-Type"), "image/jpeg");
+  EXPECT_EQ(jpeg->body.substr(0, 2), "\xFF\xD8");
+}
+
+TEST_F(DaemonTest, EveryRouteThatMovesOrWritesNeedsTheTokenAndForeignHostsAreRefused) {
+  auto d = StartDaemon();  // no rig served: the daemon starts without its devices
+  httplib::Client c = d->Client();
+  const std::vector<std::pair<std::string, std::string>> writes = {
+      {"/api/v1/jobs", kSurvey.dump()},
+      {"/api/v1/jobs/1/cancel", ""},
+      {"/api/v1/jobs/1/resume", ""},
+      {"/api/v1/stage/home", ""},
+      {"/api/v1/stage/move", R"({"pan_deg": 10, "tilt_deg": 0})"},
+      {"/api/v1/stage/stop", ""}};
+  int failures = 0;
+  for (const auto& [path, body] : writes)
+    for (const httplib::Headers& headers :
+         {httplib::Headers{}, httplib::Headers{{"Authorization", "Bearer " + std::string(64, '0')}},
+          httplib::Headers{{"Authorization", d->token()}}}) {
+      auto r = c.Post(path.c_str(), headers, body, "application/json");
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->status, 401) << path;
+      // A right token clears the client's record before the throttle would answer instead.
+      if (++failures % 4 == 0) {
+        EXPECT_EQ(d->Post("/jobs/999/cancel", {})->status, 404);
+      }
+    }
+  // Reads need no token; the health check never does.
+  EXPECT_EQ(c.Get("/api/v1/status")->status, 200);
+  EXPECT_EQ(c.Get("/api/v1/health")->status, 200);
+  // DNS rebinding: a page of another name reaching this address.
+  httplib::Headers evil_host = {{"Host", "evil.example:18321"}};
+  EXPECT_EQ(c.Get("/api/v1/status", evil_host)->status, 403);
+  EXPECT_EQ(c.Get("/api/v1/health", evil_host)->status, 403);
+  // A page of another origin posting with a stolen token; no CORS header is ever sent.
+  auto foreign = d->Post("/jobs", kSurvey, {{"Origin", "http://evil.example"}});
+  EXPECT_EQ(foreign->status, 403);
+  EXPECT_FALSE(foreign->has_header("Access-Control-Allow-Origin"));
+  EXPECT_NE(d->Post("/jobs", kSurvey, {{"Origin", "http://127.0.0.1:18321"}})->status, 403);
+  // 64 KiB bodies at most.
+  nlohmann::json big = kSurvey;
+  big["notes"] = std::string(70 * 1024, 'x');
+  EXPECT_EQ(d->Post("/jobs", big)->status, 413);
+  // No path from request text: every traversal is refused and nothing is created.
+  nlohmann::json traversal = kSurvey;
+  traversal["station"] = "../../escaped";
+  auto refused = d->Post("/jobs", traversal);
+  EXPECT_EQ(refused->status, 400);
+  EXPECT_NE(refused->body.find("station"), std::string::npos);
+  EXPECT_EQ(c.Get("/api/v1/stations/..%2F..%2Fstate")->status, 404);
+  EXPECT_EQ(c.Get("/api/v1/stations/S1/products/..%2F..%2Ftoken")->status, 404);
+  EXPECT_EQ(c.Get("/api/v1/stations/..%2Fstate/products/token")->status, 404);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "escaped"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "state/escaped"));
+  EXPECT_TRUE(std::filesystem::is_empty(d->stations_dir()));
+  // A rig job without the rig: 409 with the device that is missing.
+  auto missing = d->Post("/jobs", kSurvey);
+  EXPECT_EQ(missing->status, 409);
+  EXPECT_NE(missing->body.find("absent"), std::string::npos) << missing->body;
+  // A client that keeps guessing is slowed down, even when it then sends the right token.
+  for (int i = 0; i < 5; ++i) c.Post("/api/v1/stage/stop", httplib::Headers{}, "", "text/plain");
+  auto slowed = d->Post("/stage/stop", {});
+  EXPECT_EQ(slowed->status, 429);
+  EXPECT_EQ(slowed->get_header_value("Retry-After"), "1");
+  std::this_thread::sleep_for(1100ms);
+  EXPECT_NE(d->Post("/jobs/999/cancel", {})->status, 429);
+}
+
+// At most 8 event streams: each holds a server thread; the rest of the API still answers.
+TEST_F(DaemonTest, ANinthEventStreamIsRefusedAndTheApiStillAnswers) {
+  auto d = StartDaemon();
+  std::vector<std::unique_ptr<EventReader>> readers;
+  for (int i = 0; i < 8; ++i) readers.push_back(std::make_unique<EventReader>(*d));
+  std::this_thread::sleep_for(500ms);
+  for (auto& r : readers) EXPECT_EQ(r->events().size(), 1u);  // each had its snapshot
+  auto ninth = d->Client().Get("/api/v1/events");
+  ASSERT_TRUE(ninth);
+  EXPECT_EQ(ninth->status, 503);
+  EXPECT_EQ(d->Client().Get("/api/v1/status")->status, 200);
+  readers.clear();
+}
+
+std::map<int, std::string> PairShas(const std::string& station_dir) {
+  std::map<int, std::string> shas;
+  const Result<StationManifest> m = LoadStationManifest(station_dir);
+  if (m)
+    for (const PairRecord& p : m->pairs) shas[p.index] = p.left.sha256 + p.right.sha256;
+  return shas;
+}
+
+// kill -9 in the middle of a capture: the job is interrupted, resuming it completes the station
+// with no pair lost, changed or duplicated. Then kill -9 during processing: it finishes after
+// the restart by itself.
+TEST_F(DaemonTest, KilledMidCaptureTheJobResumesAndKilledMidProcessingItRunsAgain) {
+  Serve();
+  auto d = StartDaemon();
+  ASSERT_TRUE(WaitReady(*d));
+  const int64_t id = StartSurvey(*d);
+  ASSERT_GT(id, 0);
+  for (int i = 0; i < 600 && PairsDone(*d) < 4; ++i) std::this_thread::sleep_for(50ms);
+  ASSERT_GE(PairsDone(*d), 4);
+  d->Kill(SIGKILL);
+  const std::string station = d->stations_dir() + "/S1";
+  const std::map<int, std::string> before = PairShas(station);
+  ASSERT_GE(before.size(), 4u);
+  ASSERT_LT(before.size(), 12u);
+
+  ASSERT_TRUE(d->Start()) << d->log();
+  const nlohmann::json interrupted = d->GetJson("/jobs/" + std::to_string(id));
+  EXPECT_EQ(interrupted["state"], "interrupted") << interrupted.dump();
+  EXPECT_NE(interrupted["error"].get<std::string>().find("resume"), std::string::npos);
+  EXPECT_TRUE(ValidateStation(station, {}).ok());
+  ASSERT_TRUE(WaitReady(*d));
+  auto resumed = d->Post("/jobs/" + std::to_string(id) + "/resume", {});
+  ASSERT_EQ(resumed->status, 200) << resumed->body;
+  const nlohmann::json done = d->WaitForJob(id, Finished);
+  ASSERT_EQ(done["state"], "done") << done.dump() << d->log();
+  EXPECT_EQ(done["summary"]["captured_now"].get<int>() + static_cast<int>(before.size()), 12);
+  const Result<StationManifest> m = ValidateStation(station, {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->pairs.size(), 12u);  // none duplicated
+  const std::map<int, std::string> after = PairShas(station);
+  for (const auto& [index, sha] : before) EXPECT_EQ(after.at(index), sha) << "pair " << index;
+
+  // Reprocessing the station, killed while it runs.
+  auto process = d->Post("/jobs", {{"kind", "process"}, {"station", "S1"}});
+  ASSERT_EQ(process->status, 201) << process->body;
+  const int64_t pid = nlohmann::json::parse(process->body)["id"];
+  ASSERT_FALSE(d->WaitForJob(pid, [](const nlohmann::json& j) {
+                  return j["state"] == "processing";
+                }).is_null());
+  d->Kill(SIGKILL);
+  const auto killed_at = std::filesystem::file_time_type::clock::now();
+  ASSERT_TRUE(d->Start()) << d->log();
+  const nlohmann::json reprocessed = d->WaitForJob(pid, Finished);
+  ASSERT_EQ(reprocessed["state"], "done") << reprocessed.dump() << d->log();
+  EXPECT_GT(std::filesystem::last_write_time(station + "/products/report.json"), killed_at);
+}
+
+// Cancel stops the stage at once (not at the next pair) and leaves a station that validates.
+TEST_F(DaemonTest, CancelStopsTheStageAtOnceAndLeavesAStationThatValidates) {
+  Serve();
+  auto d = StartDaemon();
+  ASSERT_TRUE(WaitReady(*d));
+  const int64_t id = StartSurvey(*d);
+  ASSERT_GT(id, 0);
+  for (int i = 0; i < 600 && PairsDone(*d) < 2; ++i) std::this_thread::sleep_for(50ms);
+  // Cancel while the stage turns to the next pose.
+  for (int i = 0; i < 200; ++i) {
+    const StagePose a = server_->stage().Pose();
+    std::this_thread::sleep_for(20ms);
+    const StagePose b = server_->stage().Pose();
+    if (std::abs(a.pan_deg - b.pan_deg) > 0.05) break;
+  }
+  auto cancel = d->Post("/jobs/" + std::to_string(id) + "/cancel", {});
+  ASSERT_EQ(cancel->status, 200) << cancel->body;
+  const auto cancelled_at = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(400ms);  // one status poll and the stage's deceleration
+  const StagePose a = server_->stage().Pose();
+  std::this_thread::sleep_for(300ms);
+  const StagePose b = server_->stage().Pose();
+  EXPECT_NEAR(a.pan_deg, b.pan_deg, 0.01) << "the stage still turns after the cancel";
+  const nlohmann::json job = d->WaitForJob(id, Finished, 10s);
+  ASSERT_EQ(job["state"], "cancelled") << job.dump();
+  EXPECT_LT(std::chrono::steady_clock::now() - cancelled_at, 5s);
+  const Result<StationManifest> m = ValidateStation(d->stations_dir() + "/S1", {});
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_LT(m->pairs.size(), 12u);
+}
+
+// A camera lost and back, the stage unplugged and back: the states follow, a job that needed
+// the camera fails naming it, and the next job runs.
+TEST_F(DaemonTest, DevicesLostAndBackChangeStateAndTheNextJobRuns) {
+  Serve();
+  auto d = StartDaemon();
+  ASSERT_TRUE(WaitReady(*d));
+  auto state_of = [&](const std::string& device) {
+    return d->GetJson("/status")["devices"][device]["state"].get<std::string>();
+  };
+  auto wait_state = [&](const std::string& device, const std::string& want) {
+    for (int i = 0; i < 100 && state_of(device) != want; ++i) std::this_thread::sleep_for(100ms);
+    return state_of(device);
+  };
+  const int64_t id = StartSurvey(*d);
+  ASSERT_GT(id, 0);
+  for (int i = 0; i < 600 && PairsDone(*d) < 2; ++i) std::this_thread::sleep_for(50ms);
+  server_->camera(Side::kRight).Stop();  // gone longer than the capture waits for it
+  const nlohmann::json failed = d->WaitForJob(id, Finished, 60s);
+  ASSERT_EQ(failed["state"], "failed") << failed.dump();
+  EXPECT_NE(failed["error"].get<std::string>().find("TS-SIM-R"), std::string::npos)
+      << failed.dump();
+  EXPECT_EQ(wait_state("right_camera", "absent"), "absent");
+  EXPECT_EQ(state_of("left_camera"), "present");
+  auto refused =
+      d->Post("/jobs", {{"kind", "survey"}, {"station", "S2"}, {"instrument_height_m", 1.5}});
+  EXPECT_EQ(refused->status, 409);
+  EXPECT_NE(refused->body.find("TS-SIM-R"), std::string::npos) << refused->body;
+  ASSERT_TRUE(server_->camera(Side::kRight).Start().ok());
+  EXPECT_EQ(wait_state("right_camera", "present"), "present");
+
+  server_.reset();  // the whole station unplugged
+  EXPECT_EQ(wait_state("stage", "absent"), "absent");
+  Serve();
+  EXPECT_EQ(wait_state("stage", "present"), "present");
+  ASSERT_TRUE(WaitReady(*d));
+  nlohmann::json next = kSurvey;
+  next["station"] = "S3";
+  const int64_t again = StartSurvey(*d, next);
+  ASSERT_GT(again, 0);
+  EXPECT_EQ(d->WaitForJob(again, Finished)["state"], "done") << d->log();
+}
+
+// The headless unit: a survey as soon as the rig is ready, an ordinary job in the history; a
+// SIGTERM during its capture marks it interrupted.
+TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt) {
+  auto d = StartDaemon(
+      "headless: {mode: when_ready, station_pattern: 'auto-{n}', line: H, "
+      "instrument_height_m: 1.4}\n");
+  std::this_thread::sleep_for(1500ms);
+  EXPECT_TRUE(d->GetJson("/jobs").empty());  // no rig yet: nothing starts
+  Serve();
+  const nlohmann::json job = d->WaitForJob(
+      1, [](const nlohmann::json& j) { return j["state"] == "capturing"; }, 30s);
+  ASSERT_FALSE(job.is_null()) << d->log();
+  EXPECT_EQ(job["station"], "auto-1");
+  EXPECT_EQ(job["parameters"]["line"], "H");
+  EXPECT_EQ(job["parameters"]["instrument_height_m"], 1.4);
+  for (int i = 0; i < 600 && PairsDone(*d) < 1; ++i) std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(WEXITSTATUS(d->Kill(SIGTERM)), 0);
+  // Read the history the daemon left, as the next start will.
+  auto store = DaemonProcess(dir_.path().string(), kApiPort, WriteRig());
+  ASSERT_TRUE(store.Start());
+  const nlohmann::json after = store.GetJson("/jobs/1");
+  EXPECT_EQ(after["state"], "interrupted") << after.dump();
+  EXPECT_EQ(store.GetJson("/jobs").size(), 1u);  // once: no second survey of its own
+  EXPECT_TRUE(ValidateStation(d->stations_dir() + "/auto-1", {}).ok());
+}
+
+}  // namespace
+}  // namespace ts
