@@ -41,6 +41,9 @@ nlohmann::json ProcessOrThrow(const std::string& station_dir, const ProcessOptio
 // The products of a station whose pairs went to `processor` as they were committed.
 nlohmann::json FinishOrThrow(StationProcessor* processor);
 
+// The terrain correction (or why it is unusable) and the DEM's counts of a report.json.
+void PrintProcessSummary(const std::string& station_dir, const nlohmann::json& report);
+
 // products/evaluation.json of a processed station against a truth directory.
 nlohmann::json EvaluateOrThrow(const std::string& station_dir, const std::string& truth_dir);
 // Its two summary lines (DEM errors and coverage; terrain correction against the truth's).

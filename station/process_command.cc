@@ -30,23 +30,6 @@ struct ProcessArgs {
   bool json = false;
 };
 
-void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
-  if (r["terrain_correction_mgal"].is_number())
-    std::printf("%s: terrain correction %.4f +- %.4f mGal\n", station.c_str(),
-                r["terrain_correction_mgal"].get<double>(),
-                r["terrain_correction_sigma_mgal"].get<double>());
-  else
-    std::printf("%s: terrain correction unusable: %s\n", station.c_str(),
-                r.value("unusable_because", std::string("?")).c_str());
-  std::printf(
-      "%s: %d points, %d ground, DEM %s (%.0f %% of the cells within 30 m, %.0f %% of "
-      "the square) in %.1f s; products in %s/products\n",
-      station.c_str(), r["counts"]["points"].get<int>(), r["counts"]["ground"].get<int>(),
-      r["variogram"]["model"].get<std::string>().c_str(),
-      100 * r["dem"]["coverage_30m"].get<double>(), 100 * r["dem"]["coverage_square"].get<double>(),
-      r["wall_s"].get<double>(), station.c_str());
-}
-
 struct EvaluateArgs {
   std::string station;
   std::string truth;
@@ -97,6 +80,23 @@ ProcessControl ProgressControl(ProgressDisplay* display) {
 }
 
 }  // namespace
+
+void PrintProcessSummary(const std::string& station, const nlohmann::json& r) {
+  if (r["terrain_correction_mgal"].is_number())
+    std::printf("%s: terrain correction %.4f +- %.4f mGal\n", station.c_str(),
+                r["terrain_correction_mgal"].get<double>(),
+                r["terrain_correction_sigma_mgal"].get<double>());
+  else
+    std::printf("%s: terrain correction unusable: %s\n", station.c_str(),
+                r.value("unusable_because", std::string("?")).c_str());
+  std::printf(
+      "%s: %d points, %d ground, DEM %s (%.0f %% of the cells within 30 m, %.0f %% of "
+      "the square) in %.1f s; products in %s/products\n",
+      station.c_str(), r["counts"]["points"].get<int>(), r["counts"]["ground"].get<int>(),
+      r["variogram"]["model"].get<std::string>().c_str(),
+      100 * r["dem"]["coverage_30m"].get<double>(), 100 * r["dem"]["coverage_square"].get<double>(),
+      r["wall_s"].get<double>(), station.c_str());
+}
 
 nlohmann::json ProcessOrThrow(const std::string& station, const ProcessOptions& options,
                               bool show_progress) {

@@ -1,3 +1,5 @@
+// topostation survey --rig RIG.yaml --out STATION: capture and process on a real rig, without
+// the daemon.
 // topostation survey --sim [--scene NAME | --dem FILE] --out STATION [--truth DIR]: the main
 // job end to end on the simulated station, as a field team runs it (issue 21): the rig is
 // calibrated at a simulated control field (`calibrate stereo`, run as the team runs it, the
@@ -32,6 +34,8 @@ namespace {
 
 struct SurveyArgs {
   bool sim = false;
+  std::string rig_file;
+  double instrument_height_m = 0.0;  // 0: the rig file's
   sim::SimStationOptions station;
   std::string out;
   std::string truth;
@@ -86,15 +90,72 @@ std::string CalibrateAtAField(const sim::SimStation& station, const std::string&
 constexpr double kBumpTiltZeroDeg = 0.3;
 constexpr double kBumpLevellingDeg = 0.1;
 
-void RunSurvey(const SurveyArgs& args) {
-  if (!args.sim)
-    throw CommandError(
-        "survey: only --sim is available (a real rig: `capture --rig` then "
-        "`process`)");
-  if (std::filesystem::exists(args.out + "/station.json"))
-    throw CommandError(args.out +
+struct Surveyed {
+  CaptureSummary captured;
+  nlohmann::json report;
+  double after_last_pair_s = 0.0;
+};
+
+// The capture with each pair matched while the stage moves to the next: the products follow
+// the last pair by the station-wide steps only.
+Surveyed CaptureAndProcess(const RigConfig& rig, const std::string& out,
+                           const ProcessOptions& process, const CaptureOptions& capture, bool tty) {
+  StationProcessor processor(out, process);
+  auto last_pair = std::chrono::steady_clock::now();
+  Surveyed s;
+  s.captured = CaptureOrThrow(rig, out, false, capture, tty, [&](const CaptureEvent& e) {
+    if (e.kind != CaptureEventKind::kPairCaptured) return;
+    processor.AddPair(*e.record, *e.left_image, *e.right_image);
+    last_pair = std::chrono::steady_clock::now();
+  });
+  s.report = FinishOrThrow(&processor);
+  s.after_last_pair_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_pair).count();
+  return s;
+}
+
+void RefuseExistingStation(const std::string& out) {
+  if (std::filesystem::exists(out + "/station.json"))
+    throw CommandError(out +
                        ": already a station (choose a new --out, or `capture "
                        "--resume` and `process` it)");
+}
+
+// The survey on a real rig, without the daemon: capture, the stage self-calibrated on the
+// station's seams, the products.
+void RunRigSurvey(const SurveyArgs& args) {
+  RefuseExistingStation(args.out);
+  Result<RigConfig> rig = LoadRigConfig(args.rig_file);
+  if (!rig) throw CommandError(rig.error());
+  if (args.instrument_height_m > 0.0)
+    rig->calibration.stage.height_above_mark_m = args.instrument_height_m;
+  ProcessOptions process;
+  process.self_calibrate_rig = !args.no_self_calibration;
+  CaptureOptions capture;
+  capture.plan.upper_poses = !args.single_row;
+  capture.initial_exposure_us = args.capture.initial_exposure_us;
+  const bool tty = ::isatty(STDERR_FILENO) && !args.json;
+  const Surveyed s = CaptureAndProcess(*rig, args.out, process, capture, tty);
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json{{"station", args.out},
+                                       {"capture_s", s.captured.seconds},
+                                       {"process_s", s.report["wall_s"]},
+                                       {"products_after_last_pair_s", s.after_last_pair_s},
+                                       {"report", s.report}}
+                            .dump()
+                            .c_str());
+    return;
+  }
+  std::printf("survey of %s done: capture %.0f s, products %.1f s after the last pair\n",
+              args.out.c_str(), s.captured.seconds, s.after_last_pair_s);
+  PrintProcessSummary(args.out, s.report);
+}
+
+void RunSurvey(const SurveyArgs& args) {
+  if (args.sim == !args.rig_file.empty())
+    throw CommandError("survey: give --sim (the simulated station) or --rig RIG.yaml, one of them");
+  if (!args.sim) return RunRigSurvey(args);
+  RefuseExistingStation(args.out);
   EnsurePrivateStationNetwork();  // may re-execute this command in a namespace of its own
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = ::isatty(STDERR_FILENO) && !args.json;
@@ -147,19 +208,10 @@ void RunSurvey(const SurveyArgs& args) {
   CaptureOptions capture = args.capture;
   capture.plan.upper_poses = !args.single_row;
 
-  // Each pair is matched while the stage moves to the next: the products follow the last pair
-  // by the station-wide steps only.
-  StationProcessor processor(args.out, process);
-  auto last_pair = std::chrono::steady_clock::now();
-  const CaptureSummary captured =
-      CaptureOrThrow(rig, args.out, false, capture, tty, [&](const CaptureEvent& e) {
-        if (e.kind != CaptureEventKind::kPairCaptured) return;
-        processor.AddPair(*e.record, *e.left_image, *e.right_image);
-        last_pair = std::chrono::steady_clock::now();
-      });
-  const nlohmann::json report = FinishOrThrow(&processor);
-  const double after_last_pair_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_pair).count();
+  const Surveyed surveyed = CaptureAndProcess(rig, args.out, process, capture, tty);
+  const CaptureSummary& captured = surveyed.captured;
+  const nlohmann::json& report = surveyed.report;
+  const double after_last_pair_s = surveyed.after_last_pair_s;
   server->reset();
   const nlohmann::json evaluation = EvaluateOrThrow(args.out, truth_dir);
   const double seconds =
@@ -196,6 +248,11 @@ void AddSurveyCommand(CLI::App& app) {
   CLI::App* s = app.add_subcommand(
       "survey", "Capture and process a station end to end (--sim: on the simulated station)");
   s->add_flag("--sim", args->sim, "survey the simulated station");
+  s->add_option("--rig", args->rig_file, "survey with a real rig (its config, YAML)");
+  s->add_option("--instrument-height-m", args->instrument_height_m,
+                "the stage centre's height above the mark, measured now (--rig; default: "
+                "the rig file's)")
+      ->check(CLI::Range(0.05, 10.0));
   AddSimStationOptions(s, &args->station);
   s->add_option("--out", args->out, "station directory to create")->required();
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");

@@ -460,5 +460,26 @@ TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt)
   EXPECT_TRUE(ValidateStation(d->stations_dir() + "/auto-1", {}).ok());
 }
 
+// `topostation survey --rig`: the same survey on a real rig without the daemon.
+TEST_F(DaemonTest, TheSameSurveyRunsFromTheCommandLineWithoutTheDaemon) {
+  Serve();
+  const std::string station = dir_ / "cli-station";
+  const testing::CommandOutput out =
+      testing::RunCommand(std::string(TS_TOPOSTATION_EXE) + " survey --rig " + WriteRig() +
+                          " --out " + station + " --instrument-height-m 1.45 --single-row --json");
+  ASSERT_EQ(out.exit_code, 0) << out.out;
+  const nlohmann::json j = nlohmann::json::parse(out.out);
+  EXPECT_EQ(j["report"]["verdict"], "usable") << out.out;
+  const Result<StationManifest> m = ValidateStation(station, {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->calibration.stage.height_above_mark_m, 1.45);
+  EXPECT_TRUE(std::filesystem::exists(station + "/products/terrain_correction.json"));
+  // Neither or both of --sim and --rig: one clear line.
+  const testing::CommandOutput neither = testing::RunCommand(
+      std::string(TS_TOPOSTATION_EXE) + " survey --out " + (dir_ / "x") + " 2>&1");
+  EXPECT_EQ(neither.exit_code, 1);
+  EXPECT_NE(neither.out.find("--rig"), std::string::npos) << neither.out;
+}
+
 }  // namespace
 }  // namespace ts
