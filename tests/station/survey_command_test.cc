@@ -147,7 +147,7 @@ TEST(SurveySim, ABumpedTripodIsSelfCalibratedAndWithoutItTheSeamsDoNotClose) {
   EXPECT_GT(as_calibrated, 2 * self_calibrated);
 }
 
-TEST(SurveySim, RefusesAnExistingStationAndRealRigs) {
+TEST(SurveySim, RefusesAnExistingStationAndAMissingRig) {
   testing::TempDir dir;
   testing::MakeStation(dir / "S", 2, 2);
   auto r = RunCommand(Exe() + " survey --sim --out " + (dir / "S") + " 2>&1");
@@ -155,7 +155,11 @@ TEST(SurveySim, RefusesAnExistingStationAndRealRigs) {
   EXPECT_NE(r.out.find("already a station"), std::string::npos) << r.out;
   r = RunCommand(Exe() + " survey --out " + (dir / "T") + " 2>&1");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.out.find("only --sim"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--sim (the simulated station) or --rig"), std::string::npos) << r.out;
+  r = RunCommand(Exe() + " survey --rig " + (dir / "no-rig.yaml") + " --out " + (dir / "T") +
+                 " 2>&1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("no-rig.yaml"), std::string::npos) << r.out;
 }
 
 }  // namespace
