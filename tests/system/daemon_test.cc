@@ -13,6 +13,7 @@
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
 #include "sim/sim_server.h"
+#include "station/daemon/headless.h"
 #include "tests/common/daemon_process.h"
 #include "tests/common/temp_dir.h"
 
@@ -458,6 +459,46 @@ TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt)
   EXPECT_EQ(after["state"], "interrupted") << after.dump();
   EXPECT_EQ(store.GetJson("/jobs").size(), 1u);  // once: no second survey of its own
   EXPECT_TRUE(ValidateStation(d->stations_dir() + "/auto-1", {}).ok());
+}
+
+// A subsidence site watched on a schedule: a survey when the rig is ready, the next one only
+// when its hours have passed; each an ordinary job (the parts in-process, the clock given).
+TEST_F(DaemonTest, HeadlessScheduleSurveysAgainOnlyWhenItsHoursHavePassed) {
+  Serve();
+  daemon::DaemonConfig config;
+  config.rig_file = WriteRig();
+  config.state_dir = dir_ / "state";
+  config.stations_dir = dir_ / "state/stations";
+  config.headless = {daemon::HeadlessMode::kSchedule, "mon-{n}", "M", 1.5, 2.0};
+  auto store = daemon::JobStore::Open(dir_ / "jobs.sqlite");
+  ASSERT_TRUE(store.ok());
+  daemon::EventHub events;
+  daemon::DeviceSupervisor devices(*LoadRigConfig(config.rig_file), 200ms, {});
+  daemon::JobRunner jobs(config, store->get(), &devices, &events);
+  daemon::HeadlessScheduler headless(config, &devices, &jobs);
+  for (int i = 0; i < 100 && !devices.WhyNotReady().empty(); ++i)
+    std::this_thread::sleep_for(100ms);
+  ASSERT_EQ(devices.WhyNotReady(), "");
+  auto run_and_cancel = [&](int64_t id) {
+    for (int i = 0; i < 100 && (*store)->Get(id)->state != daemon::JobState::kCapturing; ++i)
+      std::this_thread::sleep_for(100ms);
+    ASSERT_TRUE(std::holds_alternative<daemon::Job>(jobs.Cancel(id)));
+    for (int i = 0; i < 100 && !jobs.CurrentJob().is_null(); ++i)
+      std::this_thread::sleep_for(100ms);
+    EXPECT_EQ((*store)->Get(id)->state, daemon::JobState::kCancelled);
+  };
+  const auto t0 = daemon::HeadlessScheduler::Clock::now();
+  headless.Tick(t0);
+  ASSERT_EQ((*store)->List().size(), 1u);
+  EXPECT_EQ((*store)->Get(1)->station, "mon-1");
+  run_and_cancel(1);
+  headless.Tick(t0 + 1h);
+  EXPECT_EQ((*store)->List().size(), 1u);  // not due yet
+  headless.Tick(t0 + 2h + 1s);
+  ASSERT_EQ((*store)->List().size(), 2u);
+  EXPECT_EQ((*store)->Get(2)->station, "mon-2");
+  EXPECT_EQ((*store)->Get(2)->parameters["line"], "M");
+  run_and_cancel(2);
 }
 
 // `topostation survey --rig`: the same survey on a real rig without the daemon.
