@@ -21,7 +21,8 @@ std::vector<unsigned char> EncodePreview(const cv::Mat& frame, int max_width_px)
 
 Result<cv::Mat> CameraPreview::Grab(Side side) {
   std::string holder;
-  std::unique_ptr<RigLease> lease = devices_->TryLease("a camera preview", &holder);
+  std::unique_ptr<RigLease> lease =
+      devices_->TryLease("a camera preview", &holder, DeviceSupervisor::LeaseKind::kPreview);
   if (!lease) return Error{"the rig is in use (" + holder + ")"};
   const RigConfig& rig = devices_->rig();
   auto camera = OpenAravisCamera(side == Side::kLeft ? rig.left_camera : rig.right_camera);
@@ -45,14 +46,26 @@ Result<cv::Mat> CameraPreview::Grab(Side side) {
 
 Result<std::vector<unsigned char>> CameraPreview::Snapshot(Side side) {
   const cv::Mat captured = jobs_->LastFrame(side);
-  if (!captured.empty()) return EncodePreview(captured, kMaxWidthPx);
-  std::lock_guard lock(mutex_);
   Cached& c = cached_[side == Side::kLeft ? 0 : 1];
   const auto now = std::chrono::steady_clock::now();
-  if (!c.jpeg.empty() && now - c.at < kReuseFor) return c.jpeg;
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (!captured.empty()) {  // encoded once per frame the capture takes
+      if (c.frame.data != captured.data) c = {EncodePreview(captured, kMaxWidthPx), now, captured};
+      return c.jpeg;
+    }
+    if (!c.jpeg.empty() && now - c.at < kReuseFor) return c.jpeg;
+  }
+  std::unique_lock grab(grab_mutex_, std::try_to_lock);
+  if (!grab.owns_lock()) {  // a frame is being taken: the last one, rather than a queue
+    std::lock_guard lock(cache_mutex_);
+    if (!c.jpeg.empty()) return c.jpeg;
+    return Error{"a preview is being taken; ask again in a second"};
+  }
   Result<cv::Mat> frame = Grab(side);
   if (!frame) return Error{frame.error()};
-  c = {EncodePreview(*frame, kMaxWidthPx), now};
+  std::lock_guard lock(cache_mutex_);
+  c = {EncodePreview(*frame, kMaxWidthPx), now, {}};
   return c.jpeg;
 }
 

@@ -26,10 +26,12 @@ class CameraPreview {
   Result<cv::Mat> Grab(Side side);
   DeviceSupervisor* devices_;
   JobRunner* jobs_;
-  std::mutex mutex_;
+  std::mutex grab_mutex_;   // one frame taken at a time
+  std::mutex cache_mutex_;  // guards cached_
   struct Cached {
     std::vector<unsigned char> jpeg;
     std::chrono::steady_clock::time_point at{};
+    cv::Mat frame;  // the capture's frame it was encoded from, if any
   } cached_[2];
 };
 

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/log.h"
+#include "devices/usb_watcher.h"
 #include "station/daemon/access_token.h"
 #include "station/daemon/device_supervisor.h"
 #include "station/daemon/event_hub.h"
@@ -56,6 +57,24 @@ std::string SystemdStatus(const nlohmann::json& job, const std::string& not_read
   return not_ready.empty() ? "idle, rig ready" : "idle, " + not_ready;
 }
 
+// The USB devices the config names, watched by libusb hotplug; nullptr when none is named (or
+// libusb cannot watch, which the log says).
+std::unique_ptr<UsbWatcher> WatchUsb(const DaemonConfig& config, DeviceSupervisor* devices) {
+  if (config.usb.empty()) return nullptr;
+  std::vector<UsbMatch> matches;
+  for (const auto& [name, id] : config.usb) matches.push_back(*ParseUsbMatch(name, id));
+  auto watcher = UsbWatcher::Start(matches, [devices, &config](const UsbEvent& e) {
+    devices->SetUsbPresence(e.name, config.usb.at(e.name), e.arrived);
+  });
+  if (!watcher) {
+    Log().error("USB presence not watched: {}", watcher.error());
+    return nullptr;
+  }
+  for (const auto& [name, id] : config.usb)
+    devices->SetUsbPresence(name, id, (*watcher)->Present(name));
+  return std::move(*watcher);
+}
+
 }  // namespace
 
 Status RunDaemon(const DaemonConfig& config, const std::atomic<bool>& stop) {
@@ -71,6 +90,7 @@ Status RunDaemon(const DaemonConfig& config, const std::atomic<bool>& stop) {
   DeviceSupervisor devices(*rig,
                            std::chrono::milliseconds(static_cast<int>(1000 * config.device_poll_s)),
                            [&events](const nlohmann::json& d) { events.Publish("devices", d); });
+  const std::unique_ptr<UsbWatcher> usb = WatchUsb(config, &devices);
   JobRunner jobs(config, store->get(), &devices, &events);
   HttpApi api({&config, *token, store->get(), &devices, &events, &jobs});
   std::string why;

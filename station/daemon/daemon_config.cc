@@ -3,6 +3,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "devices/usb_watcher.h"
 #include "processing/io/yaml_map.h"
 
 namespace ts::daemon {
@@ -65,6 +66,15 @@ Result<DaemonConfig> LoadDaemonConfig(const std::string& file) {
     if (!(c.device_poll_s >= 0.1 && c.device_poll_s <= 600))
       root.Fail("device_poll_s", "must be within 0.1 and 600 s");
     if (root.Has("headless")) c.headless = ParseHeadless(root.Map("headless"));
+    if (root.Has("usb")) {
+      YamlMap usb = root.Map("usb");
+      for (const char* name : {"left_camera", "right_camera", "stage"})
+        if (usb.Has(name)) {
+          c.usb[name] = usb.String(name);
+          if (Result<UsbMatch> m = ParseUsbMatch(name, c.usb[name]); !m) usb.Fail(name, m.error());
+        }
+      usb.RejectUnknownKeys();
+    }
     root.RejectUnknownKeys();
     return c;
   } catch (const ConfigError& e) {

@@ -9,6 +9,7 @@
 //   allowed_hosts: [topostation.local] # Host names beside localhost and the listen address
 //   token_file: token                  # relative to state_dir (default: state_dir/token)
 //   device_poll_s: 2
+//   usb: {stage: "0403:6001", left_camera: "1ab2:0001:SERIAL"}   # optional: USB presence
 //   headless:                          # optional
 //     mode: off | when_ready | schedule
 //     station_pattern: "site-{n}"      # {n} the next free number, {utc} 20261125T193000Z
@@ -17,6 +18,7 @@
 //     every_hours: 6                   # schedule only
 //
 // Every error names the file and the field.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,9 @@ struct DaemonConfig {
   std::vector<std::string> allowed_hosts;  // besides localhost and listen_address
   std::string token_file;
   double device_poll_s = 2.0;
+  // Device name (left_camera, right_camera, stage) -> "VID:PID[:SERIAL]" of its USB device
+  // (a USB3 Vision camera, the stage's USB-serial adapter), watched by libusb hotplug.
+  std::map<std::string, std::string> usb;
   HeadlessSettings headless;
 
   std::string JobDatabase() const { return state_dir + "/jobs.sqlite"; }

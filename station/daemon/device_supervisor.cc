@@ -1,6 +1,7 @@
 #include "station/daemon/device_supervisor.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
@@ -81,13 +82,25 @@ DeviceSupervisor::~DeviceSupervisor() {
   thread_.join();
 }
 
-std::unique_ptr<RigLease> DeviceSupervisor::TryLease(const std::string& user, std::string* holder) {
+std::unique_ptr<RigLease> DeviceSupervisor::TryLease(const std::string& user, std::string* holder,
+                                                     LeaseKind kind) {
   std::unique_lock lock(mutex_);
+  auto brief = [](LeaseKind k) { return k != LeaseKind::kJob; };
+  if (kind == LeaseKind::kPreview && waiting_ > 0) {  // a job or command goes first
+    if (holder) *holder = "a job about to start";
+    return nullptr;
+  }
+  if (kind != LeaseKind::kPreview) {
+    ++waiting_;
+    wake_.wait_for(lock, kBriefLeaseWait, [&] { return lent_to_.empty() || !brief(lent_kind_); });
+    --waiting_;
+  }
   if (!lent_to_.empty()) {
     if (holder) *holder = lent_to_;
     return nullptr;
   }
   lent_to_ = user;
+  lent_kind_ = kind;
   for (DeviceStatus* d : {&left_, &right_, &stage_status_})
     if (d->state == DeviceState::kPresent) *d = {DeviceState::kInUse, user, d->describe};
   const nlohmann::json devices = DevicesJsonLocked();
@@ -119,7 +132,7 @@ Status DeviceSupervisor::StopStage() {
     }
   }
   std::string holder;
-  auto lease = TryLease("stop", &holder);
+  auto lease = TryLease("stop", &holder, LeaseKind::kCommand);
   if (!lease) {  // lent in between: interrupt that user
     std::lock_guard lock(mutex_);
     if (stage_) stage_->Interrupt();
@@ -159,6 +172,23 @@ bool DeviceSupervisor::Healthy() const {
   return Clock::now() - last_round_ < 3 * interval_ + std::chrono::seconds(10);
 }
 
+void DeviceSupervisor::SetUsbPresence(const std::string& device, const std::string& usb_id,
+                                      bool present) {
+  std::lock_guard lock(mutex_);
+  if (present)
+    unplugged_.erase(device);
+  else
+    unplugged_[device] = usb_id;
+  poll_now_ = true;
+  wake_.notify_all();
+}
+
+std::string DeviceSupervisor::UnpluggedLocked(const std::string& device) const {
+  auto it = unplugged_.find(device);
+  if (it == unplugged_.end()) return "";
+  return "its USB device " + it->second + " is unplugged";
+}
+
 void DeviceSupervisor::SetStatus(DeviceStatus* device, DeviceStatus now) {
   // Called with mutex_ held by the poll thread; a lent device stays "in use".
   if (device->state == DeviceState::kInUse) return;
@@ -177,15 +207,26 @@ void DeviceSupervisor::PollCameras() {
   };
   std::lock_guard lock(mutex_);
   if (!lent_to_.empty()) return;
-  SetStatus(&left_, status_of(rig_.left_camera));
-  SetStatus(&right_, status_of(rig_.right_camera));
+  for (auto [status, endpoint, name] : {std::tuple{&left_, &rig_.left_camera, "left_camera"},
+                                        std::tuple{&right_, &rig_.right_camera, "right_camera"}}) {
+    const std::string unplugged = UnpluggedLocked(name);
+    SetStatus(status, unplugged.empty() ? status_of(*endpoint)
+                                        : DeviceStatus{DeviceState::kAbsent, unplugged, ""});
+  }
 }
 
 void DeviceSupervisor::PollStage() {
   // The poll thread owns stage_ between here and the end, unless a lease began before.
   {
     std::lock_guard lock(mutex_);
-    if (!lent_to_.empty() || Clock::now() < next_stage_attempt_) return;
+    if (!lent_to_.empty()) return;
+    if (const std::string unplugged = UnpluggedLocked("stage"); !unplugged.empty()) {
+      SetStatus(&stage_status_, {DeviceState::kAbsent, unplugged, ""});
+      reading_ = {};
+      if (stage_) stage_.reset();  // its serial port is gone with it
+      return;
+    }
+    if (Clock::now() < next_stage_attempt_) return;
     polling_ = true;
   }
   DeviceStatus status{DeviceState::kPresent, "", ""};

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -61,8 +62,17 @@ class DeviceSupervisor {
   DeviceSupervisor(RigConfig rig, std::chrono::milliseconds poll_interval, OnChange on_change);
   ~DeviceSupervisor();
 
+  // A preview or a stage command holds the rig for seconds: a job or a stage command that finds
+  // it lent so waits for it, up to kBriefLeaseWait, rather than being refused. A preview never
+  // waits (it shows the last frame instead).
+  enum class LeaseKind { kJob, kCommand, kPreview };
+  static constexpr std::chrono::seconds kBriefLeaseWait{15};
   // nullptr, with `*holder` saying who has it, when the rig is lent already.
-  std::unique_ptr<RigLease> TryLease(const std::string& user, std::string* holder);
+  std::unique_ptr<RigLease> TryLease(const std::string& user, std::string* holder,
+                                     LeaseKind kind = LeaseKind::kJob);
+  // A device's USB presence (from the hotplug watcher), for devices the config names a USB
+  // device for: while unplugged it is absent with that reason, whatever else the poll sees.
+  void SetUsbPresence(const std::string& device, const std::string& usb_id, bool present);
   // Stops the stage now, whoever holds it (a lent stage is interrupted: its job fails).
   Status StopStage();
 
@@ -81,6 +91,8 @@ class DeviceSupervisor {
   void PollCameras();
   void PollStage();
   void SetStatus(DeviceStatus* device, DeviceStatus now);
+  // Why `device` is unplugged (empty when it is not, or has no USB device); mutex_ held.
+  std::string UnpluggedLocked(const std::string& device) const;
   void Return();
   nlohmann::json DevicesJsonLocked() const;
 
@@ -92,10 +104,13 @@ class DeviceSupervisor {
   std::condition_variable wake_;
   bool quit_ = false;
   std::string lent_to_;  // empty: not lent
+  LeaseKind lent_kind_ = LeaseKind::kJob;
+  int waiting_ = 0;  // jobs and commands waiting for a brief lease to end
   bool polling_ = false;
   bool poll_now_ = false;  // the poll thread is using stage_
   DeviceStatus left_, right_, stage_status_;
   StageReading reading_;
+  std::map<std::string, std::string> unplugged_;  // device -> its USB id, while unplugged
   std::unique_ptr<Stage> stage_;  // touched by the poll thread, or by the lease holder
   std::chrono::steady_clock::time_point next_stage_attempt_{};
   std::chrono::seconds stage_backoff_{1};

@@ -70,7 +70,9 @@ HttpApi::HttpApi(ApiParts parts)
   server_.set_payload_max_length(kMaxBodyBytes);
   server_.set_read_timeout(10, 0);  // a client that stalls mid-request is dropped
   server_.set_write_timeout(10, 0);
-  server_.set_keep_alive_timeout(5);
+  // One request per connection: a kept-alive connection holds a server thread while it idles,
+  // and fifty pages polling once a second would hold them all.
+  server_.set_keep_alive_max_count(1);
   server_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     return Allowed(req, res) ? httplib::Server::HandlerResponse::Unhandled
                              : httplib::Server::HandlerResponse::Handled;
@@ -243,7 +245,8 @@ void HttpApi::StageCommand(const std::string& command, const httplib::Request& r
       return SendError(res, 400, "pan_deg must be within +-360 and tilt_deg within +-32");
   }
   std::string holder;
-  std::unique_ptr<RigLease> lease = parts_.devices->TryLease("a stage " + command, &holder);
+  std::unique_ptr<RigLease> lease = parts_.devices->TryLease("a stage " + command, &holder,
+                                                             DeviceSupervisor::LeaseKind::kCommand);
   if (!lease) return SendError(res, 409, "the rig is in use: " + holder);
   Result<Stage*> stage = lease->stage();
   if (!stage) return SendError(res, 409, stage.error());

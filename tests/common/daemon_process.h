@@ -67,6 +67,7 @@ class DaemonProcess {
   }
   httplib::Headers Auth() const { return {{"Authorization", "Bearer " + token_}}; }
   const std::string& token() const { return token_; }
+  pid_t pid() const { return pid_; }
   std::string stations_dir() const { return dir_ + "/state/stations"; }
   std::string log() const {
     std::ifstream in(dir_ + "/daemon.log");

@@ -435,6 +435,35 @@ TEST_F(DaemonTest, DevicesLostAndBackChangeStateAndTheNextJobRuns) {
   EXPECT_EQ(d->WaitForJob(again, Finished)["state"], "done") << d->log();
 }
 
+// USB presence from libusb hotplug: a stage whose USB-serial adapter is unplugged is absent
+// with that reason, though something answers on its port; plugged in, the poll takes over.
+TEST_F(DaemonTest, AnUnpluggedUsbDeviceIsAbsentWithThatReason) {
+  Serve();
+  {  // the daemon with libusb's watcher: this machine has no such adapter
+    auto d = StartDaemon("usb: {stage: '0403:6001'}\n");
+    std::this_thread::sleep_for(1s);
+    const nlohmann::json stage = d->GetJson("/status")["devices"]["stage"];
+    EXPECT_EQ(stage["state"], "absent") << stage.dump();
+    EXPECT_NE(stage["reason"].get<std::string>().find("0403:6001 is unplugged"), std::string::npos)
+        << stage.dump();
+    EXPECT_EQ(d->Post("/jobs", kSurvey)->status, 409);
+  }
+  // The supervisor's side of a hotplug event, in-process.
+  daemon::DeviceSupervisor devices(*LoadRigConfig(WriteRig()), 100ms, {});
+  auto stage_becomes = [&](const std::string& want) {
+    for (int i = 0; i < 100 && devices.DevicesJson()["stage"]["state"] != want; ++i)
+      std::this_thread::sleep_for(100ms);
+    return devices.DevicesJson()["stage"]["state"].get<std::string>();
+  };
+  EXPECT_EQ(stage_becomes("present"), "present");
+  devices.SetUsbPresence("stage", "0403:6001", false);
+  EXPECT_EQ(stage_becomes("absent"), "absent");
+  EXPECT_NE(devices.DevicesJson()["stage"]["reason"].get<std::string>().find("unplugged"),
+            std::string::npos);
+  devices.SetUsbPresence("stage", "0403:6001", true);
+  EXPECT_EQ(stage_becomes("present"), "present");
+}
+
 // The headless unit: a survey as soon as the rig is ready, an ordinary job in the history; a
 // SIGTERM during its capture marks it interrupted.
 TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt) {

@@ -61,6 +61,8 @@ TEST(DaemonConfig, EachBadFieldIsNamedWithTheFile) {
       {head + "headless: {mode: sometimes}\n", "headless.mode"},
       {head + "headless: {mode: when_ready, station_pattern: fixed}\n", "headless.station_pattern"},
       {head + "allowed_hosts: tripod\n", "allowed_hosts"},
+      {head + "usb: {stage: 'zz:01'}\n", "usb.stage"},
+      {head + "usb: {gnss: '0403:6001'}\n", "usb.gnss: unknown key"},
       {"schema_version: 1\nstate_dir: s\n", "rig_file: missing"},
   };
   for (const auto& [text, field] : cases) {
