@@ -70,8 +70,30 @@ Status CheckGcps(const nlohmann::json& list) {
 
 }  // namespace
 
+constexpr size_t kMaxCalibrationStations = 20;
+
+Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
+  if (Status s = CheckKeys(body, "", {"kind", "stations", "notes"}); !s) return Error{s.error()};
+  if (Status s = CheckText(body, "notes"); !s) return Error{s.error()};
+  const nlohmann::json& list = body.value("stations", nlohmann::json());
+  if (!list.is_array() || list.empty() || list.size() > kMaxCalibrationStations)
+    return Error{"stations: must be a list of 1-20 station ids"};
+  JobRequest r;
+  r.kind = JobKind::kCalibrateRig;
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].is_string() || !IsStationId(list[i].get<std::string>()))
+      return Error{"stations[" + std::to_string(i) + "]: must be 1-64 letters, digits, '_' or '-'"};
+    r.stations.push_back(list[i].get<std::string>());
+  }
+  r.station = r.stations.front();
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
 Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   if (!body.is_object()) return Error{"the body must be a JSON object"};
+  if (body.value("kind", nlohmann::json()) == "calibrate_rig") return ParseCalibrateRig(body);
   if (Status s = CheckKeys(body, "",
                            {"kind", "station", "line", "instrument_height_m", "operator", "notes",
                             "gnss", "gcps", "single_row"});
@@ -80,7 +102,7 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   JobRequest r;
   if (!body.contains("kind") || !body["kind"].is_string() ||
       !JobKindFromName(body["kind"].get<std::string>()))
-    return Error{"kind: must be survey, capture or process"};
+    return Error{"kind: must be survey, capture, process or calibrate_rig"};
   r.kind = *JobKindFromName(body["kind"].get<std::string>());
   if (!body.contains("station") || !body["station"].is_string() ||
       !IsStationId(body["station"].get<std::string>()))

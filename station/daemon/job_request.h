@@ -7,8 +7,10 @@
 //    "gnss": {"lat_deg": 47.1, "lon_deg": 8.3, "height_m": 512.0, "sigma_m": 0.02},
 //    "gcps": [{"id": "p1", "x": ..., "y": ..., "z": ..., "sigma_m": 0.02}],
 //    "single_row": false}
+//   {"kind": "calibrate_rig", "stations": ["G-0412", "G-0413"]}
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 #include "station/daemon/job_store.h"
@@ -17,8 +19,9 @@ namespace ts::daemon {
 
 struct JobRequest {
   JobKind kind = JobKind::kSurvey;
-  std::string station;
-  nlohmann::json fields;  // the request less kind: kept as the job's parameters
+  std::string station;                // calibrate_rig: the first of `stations`
+  std::vector<std::string> stations;  // calibrate_rig
+  nlohmann::json fields;              // the request less kind: kept as the job's parameters
   double instrument_height_m = 0.0;
   bool single_row = false;
 };

@@ -8,6 +8,7 @@
 #include "processing/io/atomic_file.h"
 #include "processing/io/station_manifest.h"
 #include "processing/pipeline/process_station.h"
+#include "station/daemon/calibrate_job.h"
 
 namespace ts::daemon {
 namespace {
@@ -107,7 +108,10 @@ std::variant<Job, JobError> JobRunner::Submit(const JobRequest& request,
   job.parameters = request.fields;
   job.idempotency_key = idempotency_key;
   if (!UsesRig(request.kind)) {
-    if (!station_exists) return JobError{404, "no station '" + request.station + "' to process"};
+    for (const std::string& s :
+         request.stations.empty() ? std::vector{request.station} : request.stations)
+      if (!fs::exists(fs::path(StationDir(s)) / kManifestFileName))
+        return JobError{404, "no station '" + s + "'"};
     Result<Job> created = store_->Create(job, existed);
     if (!created) return JobError{500, created.error()};
     std::lock_guard lock(mutex_);
@@ -344,7 +348,27 @@ void JobRunner::ProcessLoop() {
   }
 }
 
+void JobRunner::RunCalibrateJob(const Job& job) {
+  Record(job.id, JobState::kProcessing);
+  std::vector<std::string> dirs;
+  for (const auto& id : job.parameters["stations"]) dirs.push_back(StationDir(id));
+  const Result<RigConfig> rig = LoadRigConfig(config_.rig_file);
+  if (!rig) return Record(job.id, JobState::kFailed, nullptr, rig.error());
+  const std::string out =
+      config_.state_dir + "/calibrations/rig-job-" + std::to_string(job.id) + ".yaml";
+  Result<nlohmann::json> report = CalibrateRigInChild(dirs, rig->calibration, out,
+                                                      [this] { return cancel_processing_.load(); });
+  if (report) {
+    (*report)["calibration_file"] = out;
+    Record(job.id, JobState::kDone, *report);
+  } else if (!quit_) {
+    Record(job.id, cancel_processing_ ? JobState::kCancelled : JobState::kFailed, nullptr,
+           report.error());
+  }
+}
+
 void JobRunner::RunProcessJob(const Job& job) {
+  if (job.kind == JobKind::kCalibrateRig) return RunCalibrateJob(job);
   Record(job.id, JobState::kProcessing);
   ProcessControl control;
   control.should_stop = [this] { return cancel_processing_.load(); };

@@ -1,7 +1,8 @@
 #pragma once
 // Runs the daemon's jobs. A rig job (survey, capture) takes the rig from the supervisor when
 // it is submitted, so a second one is refused at once with the reason (409); it runs on a
-// thread of its own. Process jobs queue and run one after another on the processing thread.
+// thread of its own. Process and calibrate_rig jobs queue and run one after another on the
+// processing thread.
 // A survey matches each pair as it is committed and makes the products after the last.
 // Every state change goes to the job history first, then to the events.
 #include <atomic>
@@ -58,6 +59,7 @@ class JobRunner {
   void OnCaptureEvent(Running* run, const CaptureEvent& e);
   void ProcessLoop();
   void RunProcessJob(const Job& job);
+  void RunCalibrateJob(const Job& job);
   void SetState(Running* run, JobState state, const nlohmann::json& summary = nullptr,
                 const std::string& error = "");
   // In the history first, then as an event.

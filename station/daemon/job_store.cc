@@ -8,7 +8,7 @@
 namespace ts::daemon {
 namespace {
 
-constexpr std::array<const char*, 3> kKindNames = {"survey", "capture", "process"};
+constexpr std::array<const char*, 4> kKindNames = {"survey", "capture", "process", "calibrate_rig"};
 constexpr std::array<const char*, 7> kStateNames = {"queued", "capturing",   "processing", "done",
                                                     "failed", "interrupted", "cancelled"};
 

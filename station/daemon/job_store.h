@@ -15,7 +15,8 @@
 
 namespace ts::daemon {
 
-enum class JobKind { kSurvey, kCapture, kProcess };
+// calibrate_rig: the stage kinematics adjusted on stations' own seams (calibrate_job.h).
+enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig };
 enum class JobState { kQueued, kCapturing, kProcessing, kDone, kFailed, kInterrupted, kCancelled };
 
 const char* JobKindName(JobKind kind);

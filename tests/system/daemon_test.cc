@@ -219,6 +219,17 @@ TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) 
   const Result<StationManifest> m =
       ValidateStation(d->stations_dir() + "/S1", {.require_complete = true});
   EXPECT_TRUE(m.ok()) << m.error();
+  // The stage calibrated on the station's own seams, as a job (a child process).
+  EXPECT_EQ(d->Post("/jobs", {{"kind", "calibrate_rig"}, {"stations", {"S1", "S9"}}})->status, 404);
+  auto calibrate = d->Post("/jobs", {{"kind", "calibrate_rig"}, {"stations", {"S1"}}});
+  ASSERT_EQ(calibrate->status, 201) << calibrate->body;
+  const nlohmann::json calibrated =
+      d->WaitForJob(nlohmann::json::parse(calibrate->body)["id"], Finished);
+  ASSERT_EQ(calibrated["state"], "done") << calibrated.dump();
+  const Result<Calibration> cal =
+      LoadCalibrationYaml(calibrated["summary"]["calibration_file"].get<std::string>());
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_GT(calibrated["summary"]["tie_points"].get<int>(), 100) << calibrated.dump();
   // A preview now comes from the camera itself.
   auto jpeg = d->Client().Get("/api/v1/cameras/left/snapshot.jpg");
   ASSERT_TRUE(jpeg);

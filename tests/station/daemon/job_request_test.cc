@@ -52,5 +52,22 @@ TEST(JobRequest, EachBadFieldIsNamed) {
   EXPECT_TRUE(ParseJobRequest({{"kind", "process"}, {"station", "S1"}}).ok());
 }
 
+TEST(JobRequest, ACalibrationOfTheRigNamesItsStationsEachChecked) {
+  const Result<JobRequest> r =
+      ParseJobRequest({{"kind", "calibrate_rig"}, {"stations", {"S1", "S2"}}});
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->kind, JobKind::kCalibrateRig);
+  EXPECT_EQ(r->stations, (std::vector<std::string>{"S1", "S2"}));
+  EXPECT_EQ(r->station, "S1");
+  for (const nlohmann::json& bad :
+       {nlohmann::json{{"kind", "calibrate_rig"}, {"stations", {"S1", "../x"}}},
+        nlohmann::json{{"kind", "calibrate_rig"}, {"stations", nlohmann::json::array()}},
+        nlohmann::json{{"kind", "calibrate_rig"}, {"stations", "S1"}}}) {
+    const Result<JobRequest> refused = ParseJobRequest(bad);
+    ASSERT_FALSE(refused.ok()) << bad.dump();
+    EXPECT_NE(refused.error().find("stations"), std::string::npos) << refused.error();
+  }
+}
+
 }  // namespace
 }  // namespace ts::daemon
