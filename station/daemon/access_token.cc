@@ -86,6 +86,8 @@ int AuthThrottle::WaitSeconds(const std::string& address, Clock::time_point now)
 
 void AuthThrottle::Failed(const std::string& address, Clock::time_point now) {
   std::lock_guard lock(mutex_);
+  if (records_.size() >= kMaxRecords)  // many addresses: forget those not blocked now
+    std::erase_if(records_, [&](const auto& entry) { return entry.second.blocked_until <= now; });
   Record& r = records_[address];
   ++r.failures;
   if (r.failures < kFreeFailures) return;

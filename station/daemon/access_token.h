@@ -23,6 +23,7 @@ bool TokenMatches(const std::string& presented, const std::string& expected);
 class AuthThrottle {
  public:
   static constexpr int kFreeFailures = 5;
+  static constexpr size_t kMaxRecords = 10000;
   using Clock = std::chrono::steady_clock;
   // The seconds the address must still wait (0: it may try now).
   int WaitSeconds(const std::string& address, Clock::time_point now = Clock::now());

@@ -197,6 +197,10 @@ void DeviceSupervisor::SetStatus(DeviceStatus* device, DeviceStatus now) {
 }
 
 void DeviceSupervisor::PollCameras() {
+  {
+    std::lock_guard lock(mutex_);
+    if (!lent_to_.empty()) return;  // in use: no discovery traffic beside a capture
+  }
   const std::vector<CameraInfo> seen = ListAravisCameras();  // discovery: no camera is opened
   auto status_of = [&](const CameraEndpoint& e) {
     const bool found = std::any_of(seen.begin(), seen.end(), [&](const CameraInfo& c) {

@@ -196,7 +196,12 @@ nlohmann::json JobRunner::CurrentJob() const {
   std::lock_guard lock(mutex_);
   if (!rig_job_) {
     if (processing_id_ == 0) return nullptr;
-    return {{"id", processing_id_}, {"kind", "process"}, {"state", "processing"}};
+    Result<Job> job = store_->Get(processing_id_);
+    if (!job) return nullptr;
+    return {{"id", job->id},
+            {"kind", JobKindName(job->kind)},
+            {"station", job->station},
+            {"state", JobStateName(job->state)}};
   }
   nlohmann::json j = rig_job_->progress;
   j["id"] = rig_job_->job.id;
@@ -296,6 +301,8 @@ void JobRunner::OnCaptureEvent(Running* run, const CaptureEvent& e) {
   if (e.kind == CaptureEventKind::kPairCaptured) {
     p["pairs_done"] = e.captured;
     if (run->pairs_done_now++ == 0) run->first_pair = Clock::now();
+    p["pan_deg"] = e.record->readback.pan_deg;  // the stage as the pair was taken
+    p["tilt_deg"] = e.record->readback.tilt_deg;
     run->last_left = *e.left_image;  // shared, never modified (CaptureEvent)
     run->last_right = *e.right_image;
   }
