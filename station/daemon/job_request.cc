@@ -68,8 +68,6 @@ Status CheckGcps(const nlohmann::json& list) {
   return {};
 }
 
-}  // namespace
-
 constexpr size_t kMaxCalibrationStations = 20;
 
 Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
@@ -91,9 +89,35 @@ Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
   return r;
 }
 
+Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
+  if (Status s = CheckKeys(body, "",
+                           {"kind", "station", "field_pan_deg", "field_tilt_deg", "field_pans",
+                            "field_tilts", "notes"});
+      !s)
+    return Error{s.error()};
+  for (Status s :
+       {CheckText(body, "notes"), CheckNumber(body, "", "field_pan_deg", -360, 360, false),
+        CheckNumber(body, "", "field_tilt_deg", -32, 32, false),
+        CheckNumber(body, "", "field_pans", 1, 36, false),
+        CheckNumber(body, "", "field_tilts", 1, 9, false)})
+    if (!s) return Error{s.error()};
+  JobRequest r;
+  r.kind = JobKind::kCaptureField;
+  if (!body.contains("station") || !body["station"].is_string() ||
+      !IsStationId(body["station"].get<std::string>()))
+    return Error{"station: must be 1-64 letters, digits, '_' or '-'"};
+  r.station = body["station"].get<std::string>();
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
+}  // namespace
+
 Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   if (!body.is_object()) return Error{"the body must be a JSON object"};
   if (body.value("kind", nlohmann::json()) == "calibrate_rig") return ParseCalibrateRig(body);
+  if (body.value("kind", nlohmann::json()) == "capture_field") return ParseCaptureField(body);
   if (Status s = CheckKeys(body, "",
                            {"kind", "station", "line", "instrument_height_m", "operator", "notes",
                             "gnss", "gcps", "single_row"});
@@ -102,7 +126,7 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   JobRequest r;
   if (!body.contains("kind") || !body["kind"].is_string() ||
       !JobKindFromName(body["kind"].get<std::string>()))
-    return Error{"kind: must be survey, capture, process or calibrate_rig"};
+    return Error{"kind: must be survey, capture, process, calibrate_rig or capture_field"};
   r.kind = *JobKindFromName(body["kind"].get<std::string>());
   if (!body.contains("station") || !body["station"].is_string() ||
       !IsStationId(body["station"].get<std::string>()))

@@ -8,6 +8,9 @@
 //    "gcps": [{"id": "p1", "x": ..., "y": ..., "z": ..., "sigma_m": 0.02}],
 //    "single_row": false}
 //   {"kind": "calibrate_rig", "stations": ["G-0412", "G-0413"]}
+//   {"kind": "capture_field", "station": "field-2026-11", "field_pan_deg": 40,
+//    "field_tilt_deg": 5, "field_pans": 9, "field_tilts": 4}   (a calibration session, named
+//    by its station id; the grid as `capture --calibration field` takes it)
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>

@@ -6,6 +6,7 @@
 #include "core/log.h"
 #include "devices/aravis_camera.h"
 #include "processing/io/atomic_file.h"
+#include "processing/io/calibration_yaml.h"
 #include "processing/io/station_manifest.h"
 #include "processing/pipeline/process_station.h"
 #include "station/daemon/calibrate_job.h"
@@ -76,6 +77,12 @@ std::string JobRunner::StationDir(const std::string& station) const {
   return (fs::path(config_.stations_dir) / station).string();  // station passed IsStationId
 }
 
+std::string JobRunner::DirOf(const Job& job) const {
+  if (job.kind == JobKind::kCaptureField)  // a calibration session, not a station
+    return (fs::path(config_.state_dir) / "calibration-sessions" / job.station).string();
+  return StationDir(job.station);
+}
+
 void JobRunner::PublishJob(int64_t id) {
   if (Result<Job> job = store_->Get(id)) events_->Publish("job", job->ToJson());
 }
@@ -100,13 +107,12 @@ std::variant<Job, JobError> JobRunner::Submit(const JobRequest& request,
       *existed = true;
       return *earlier;
     }
-  const std::string dir = StationDir(request.station);
-  const bool station_exists = fs::exists(fs::path(dir) / kManifestFileName);
   Job job;
   job.kind = request.kind;
   job.station = request.station;
   job.parameters = request.fields;
   job.idempotency_key = idempotency_key;
+  const bool station_exists = fs::exists(fs::path(DirOf(job)) / kManifestFileName);
   if (!UsesRig(request.kind)) {
     for (const std::string& s :
          request.stations.empty() ? std::vector{request.station} : request.stations)
@@ -219,7 +225,7 @@ cv::Mat JobRunner::LastFrame(Side side) const {
 
 void JobRunner::RunRigJob(Running* run) {
   const Job& job = run->job;
-  const std::string dir = StationDir(job.station);
+  const std::string dir = DirOf(job);
   const bool survey = job.kind == JobKind::kSurvey;
   auto fail = [&](const std::string& error) {
     Log().warn("job {} ({} of {}): {}", job.id, JobKindName(job.kind), job.station, error);
@@ -268,6 +274,15 @@ void JobRunner::RunRigJob(Running* run) {
       processor = std::make_unique<StationProcessor>(dir, DaemonProcessOptions(), control);
     CaptureOptions options;
     options.plan.upper_poses = !job.parameters.value("single_row", false);
+    if (job.kind == JobKind::kCaptureField) {
+      FieldPoseGrid grid;
+      grid.centre_pan_deg = job.parameters.value("field_pan_deg", 0.0);
+      grid.centre_tilt_deg = job.parameters.value("field_tilt_deg", 0.0);
+      grid.pans = job.parameters.value("field_pans", grid.pans);
+      grid.tilts = job.parameters.value("field_tilts", grid.tilts);
+      options.given_plan = MakeFieldPoseGrid(grid);
+      options.plan.upper_poses = false;
+    }
     const Result<CaptureSummary> captured = CaptureStation(
         **stage, **left, **right, *rig, dir, resume, options, [&](const CaptureEvent& e) {
           OnCaptureEvent(run, e);
@@ -280,6 +295,18 @@ void JobRunner::RunRigJob(Running* run) {
                               {"capture_s", captured->seconds},
                               {"retakes", captured->retakes},
                               {"frame_retries", captured->frame_retries}};
+    if (job.kind == JobKind::kCaptureField) {  // the cameras it starts from: the rig's now
+      summary["session"] = dir;
+      if (Status s = SaveCalibrationYaml(rig->calibration, dir + "/design.yaml"); !s)
+        return fail(s.error());
+      summary["next"] =
+          "mark 4 or more targets (MARKS.yaml), then topostation calibrate stereo "
+          "--left '" +
+          dir + "/raw/*_left.png' --right '" + dir +
+          "/raw/*_right.png' --control-field FIELD.yaml --marks MARKS.yaml "
+          "--start " +
+          dir + "/design.yaml --out CAL.yaml";
+    }
     if (!survey) return SetState(run, JobState::kDone, summary);
     SetState(run, JobState::kProcessing);
     Result<ProcessResult> processed = processor->Finish();
@@ -323,7 +350,7 @@ void JobRunner::OnCaptureEvent(Running* run, const CaptureEvent& e) {
 
 void JobRunner::RecoverAfterRestart() {
   for (const Job& job : store_->RecoverAfterRestart()) {
-    const bool captured = fs::exists(fs::path(StationDir(job.station)) / kManifestFileName);
+    const bool captured = fs::exists(fs::path(DirOf(job)) / kManifestFileName);
     if (!UsesRig(job.kind) || captured) {  // a survey that had reached processing, or process
       std::lock_guard lock(mutex_);
       process_queue_.push_back(job.id);

@@ -67,6 +67,7 @@ class JobRunner {
               const std::string& error = "");
   void PublishJob(int64_t id);
   std::string StationDir(const std::string& station) const;
+  std::string DirOf(const Job& job) const;  // where a job's capture goes
 
   const DaemonConfig config_;
   JobStore* store_;

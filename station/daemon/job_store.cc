@@ -8,7 +8,10 @@
 namespace ts::daemon {
 namespace {
 
-constexpr std::array<const char*, 4> kKindNames = {"survey", "capture", "process", "calibrate_rig"};
+constexpr std::array<const char*, 5> kKindNames = {"survey", "capture", "process", "calibrate_rig",
+                                                   "capture_field"};
+static_assert(kKindNames.size() == static_cast<size_t>(JobKind::kCaptureField) + 1,
+              "a name for every JobKind");
 constexpr std::array<const char*, 7> kStateNames = {"queued", "capturing",   "processing", "done",
                                                     "failed", "interrupted", "cancelled"};
 
@@ -89,7 +92,9 @@ bool IsFinal(JobState s) {
          s == JobState::kCancelled;
 }
 
-bool UsesRig(JobKind kind) { return kind == JobKind::kSurvey || kind == JobKind::kCapture; }
+bool UsesRig(JobKind kind) {
+  return kind == JobKind::kSurvey || kind == JobKind::kCapture || kind == JobKind::kCaptureField;
+}
 
 nlohmann::json Job::ToJson() const {
   auto or_null = [](const std::string& s) -> nlohmann::json {

@@ -15,15 +15,16 @@
 
 namespace ts::daemon {
 
-// calibrate_rig: the stage kinematics adjusted on stations' own seams (calibrate_job.h).
-enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig };
+// calibrate_rig: the stage kinematics adjusted on stations' own seams (calibrate_job.h);
+// capture_field: a control field's grid of stage poses, the views `calibrate stereo` takes.
+enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig, kCaptureField };
 enum class JobState { kQueued, kCapturing, kProcessing, kDone, kFailed, kInterrupted, kCancelled };
 
 const char* JobKindName(JobKind kind);
 std::optional<JobKind> JobKindFromName(const std::string& name);
 const char* JobStateName(JobState state);
 bool IsFinal(JobState state);  // done, failed, interrupted or cancelled
-bool UsesRig(JobKind kind);    // survey and capture drive the cameras and the stage
+bool UsesRig(JobKind kind);    // survey, capture and capture_field drive the cameras and stage
 
 struct Job {
   int64_t id = 0;

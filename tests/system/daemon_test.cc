@@ -501,6 +501,37 @@ TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt)
   EXPECT_TRUE(ValidateStation(d->stations_dir() + "/auto-1", {}).ok());
 }
 
+// A control field's calibration views through the API: the grid of stage poses as a session
+// that validates, with the cameras it starts from beside it.
+TEST_F(DaemonTest, ACalibrationSessionAtAControlFieldIsCapturedAsAJob) {
+  Serve();
+  auto d = StartDaemon();
+  ASSERT_TRUE(WaitReady(*d));
+  auto r = d->Post("/jobs", {{"kind", "capture_field"},
+                             {"station", "field-1"},
+                             {"field_pan_deg", 20.0},
+                             {"field_pans", 3},
+                             {"field_tilts", 2}});
+  ASSERT_EQ(r->status, 201) << r->body;
+  const nlohmann::json job = d->WaitForJob(nlohmann::json::parse(r->body)["id"], Finished, 120s);
+  ASSERT_EQ(job["state"], "done") << job.dump() << d->log();
+  ASSERT_TRUE(job["summary"]["session"].is_string()) << job.dump();
+  const std::string session = job["summary"]["session"];
+  EXPECT_EQ(session, dir_ / "state/calibration-sessions/field-1");
+  const Result<StationManifest> m = ValidateStation(session, {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  FieldPoseGrid grid;
+  grid.centre_pan_deg = 20.0;
+  grid.pans = 3;
+  grid.tilts = 2;
+  const std::vector<StagePose> plan = MakeFieldPoseGrid(grid);
+  ASSERT_EQ(m->plan.size(), plan.size());
+  for (size_t k = 0; k < plan.size(); ++k) EXPECT_EQ(m->plan[k].pan_deg, plan[k].pan_deg);
+  EXPECT_TRUE(LoadCalibrationYaml(session + "/design.yaml").ok());
+  EXPECT_NE(job["summary"]["next"].get<std::string>().find("calibrate stereo"), std::string::npos);
+  EXPECT_TRUE(d->GetJson("/stations").empty());  // a session is not a station
+}
+
 // A subsidence site watched on a schedule: a survey when the rig is ready, the next one only
 // when its hours have passed; each an ordinary job (the parts in-process, the clock given).
 TEST_F(DaemonTest, HeadlessScheduleSurveysAgainOnlyWhenItsHoursHavePassed) {

@@ -69,5 +69,23 @@ TEST(JobRequest, ACalibrationOfTheRigNamesItsStationsEachChecked) {
   }
 }
 
+TEST(JobRequest, AFieldSessionTakesItsGridWithinTheStagesReach) {
+  const Result<JobRequest> r = ParseJobRequest({{"kind", "capture_field"},
+                                                {"station", "field-1"},
+                                                {"field_pan_deg", 40},
+                                                {"field_pans", 5}});
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->kind, JobKind::kCaptureField);
+  EXPECT_TRUE(UsesRig(r->kind));
+  for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"field_tilt_deg", 40}, {"field_pans", 0}, {"field_tilts", 10}, {"station", "../f"}}) {
+    nlohmann::json body = {{"kind", "capture_field"}, {"station", "f"}};
+    body[key] = value;
+    const Result<JobRequest> refused = ParseJobRequest(body);
+    ASSERT_FALSE(refused.ok()) << body.dump();
+    EXPECT_NE(refused.error().find(key), std::string::npos) << refused.error();
+  }
+}
+
 }  // namespace
 }  // namespace ts::daemon

@@ -90,6 +90,20 @@ TEST(JobStore, AfterADeathCapturesAreInterruptedAndProcessingRunsAgain) {
   EXPECT_EQ((*store)->Get(done)->state, JobState::kDone);
 }
 
+TEST(JobStore, EveryKindKeepsItsNameThroughTheHistory) {
+  testing::TempDir dir;
+  auto store = JobStore::Open(dir / "jobs.sqlite");
+  ASSERT_TRUE(store.ok());
+  for (JobKind kind : {JobKind::kSurvey, JobKind::kCapture, JobKind::kProcess,
+                       JobKind::kCalibrateRig, JobKind::kCaptureField}) {
+    EXPECT_EQ(JobKindFromName(JobKindName(kind)), kind);
+    const Result<Job> job = (*store)->Create(NewJob(kind, "S"));
+    ASSERT_TRUE(job.ok());
+    EXPECT_EQ((*store)->Get(job->id)->kind, kind) << JobKindName(kind);
+  }
+  EXPECT_FALSE(JobKindFromName("dance").has_value());
+}
+
 TEST(JobStore, TheHistoryIsInWalMode) {
   testing::TempDir dir;
   auto store = JobStore::Open(dir / "jobs.sqlite");
