@@ -2,6 +2,8 @@
 // API's guards, a kill -9 in the middle of a capture and of processing, a cancel, devices lost
 // and back, and the headless unit. The daemon runs as a process of its own.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 
 #include <atomic>
 #include <fstream>
@@ -530,6 +532,42 @@ TEST_F(DaemonTest, ACalibrationSessionAtAControlFieldIsCapturedAsAJob) {
   EXPECT_TRUE(LoadCalibrationYaml(session + "/design.yaml").ok());
   EXPECT_NE(job["summary"]["next"].get<std::string>().find("calibrate stereo"), std::string::npos);
   EXPECT_TRUE(d->GetJson("/stations").empty());  // a session is not a station
+}
+
+// systemd's side (Type=notify): READY once listening, STATUS saying what it does, the
+// watchdog fed while the device poll goes round, STOPPING on SIGTERM; read from a
+// NOTIFY_SOCKET of the test's own, as systemd would.
+TEST_F(DaemonTest, SystemdIsToldReadyWhatItDoesAndItsWatchdogIsFed) {
+  const std::string path = dir_ / "notify.sock";
+  const int fd = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof(address.sun_path), "%s", path.c_str());
+  ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
+  const timeval wait{0, 200000};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof(wait));
+  ::setenv("NOTIFY_SOCKET", path.c_str(), 1);
+  auto d = StartDaemon();  // nothing served: idle, and the rig not ready
+  ::unsetenv("NOTIFY_SOCKET");
+  std::string said;
+  auto listen = [&](std::chrono::milliseconds how_long) {
+    const auto until = std::chrono::steady_clock::now() + how_long;
+    char buffer[4096];
+    while (std::chrono::steady_clock::now() < until) {
+      const ssize_t n = ::recv(fd, buffer, sizeof(buffer), 0);
+      if (n > 0) said += std::string(buffer, static_cast<size_t>(n)) + "\n";
+    }
+  };
+  listen(2000ms);
+  EXPECT_NE(said.find("READY=1"), std::string::npos) << said;
+  EXPECT_NE(said.find("STATUS=idle, camera TS-SIM-L is absent"), std::string::npos) << said;
+  EXPECT_NE(said.find("WATCHDOG=1"), std::string::npos) << said;
+  said.clear();
+  d->Kill(SIGTERM);
+  listen(300ms);
+  EXPECT_NE(said.find("STOPPING=1"), std::string::npos) << said;
+  ::close(fd);
 }
 
 // A subsidence site watched on a schedule: a survey when the rig is ready, the next one only
