@@ -33,6 +33,34 @@ nlohmann::json ProcessSummaryJson(const nlohmann::json& report) {
   return s;
 }
 
+// A rig job's capture: the panorama (a survey's single row when asked), or a control
+// field's grid of stage poses.
+CaptureOptions CaptureOptionsFor(const Job& job) {
+  CaptureOptions options;
+  options.plan.upper_poses = !job.parameters.value("single_row", false);
+  if (job.kind != JobKind::kCaptureField) return options;
+  FieldPoseGrid grid;
+  grid.centre_pan_deg = job.parameters.value("field_pan_deg", 0.0);
+  grid.centre_tilt_deg = job.parameters.value("field_tilt_deg", 0.0);
+  grid.pans = job.parameters.value("field_pans", grid.pans);
+  grid.tilts = job.parameters.value("field_tilts", grid.tilts);
+  options.given_plan = MakeFieldPoseGrid(grid);
+  options.plan.upper_poses = false;
+  return options;
+}
+
+// A field session's cameras to start from (the rig's now) beside it, and the command that
+// follows once a person has marked four targets.
+Status FinishFieldSession(const Calibration& rig, const std::string& dir, nlohmann::json* summary) {
+  (*summary)["session"] = dir;
+  (*summary)["next"] =
+      "mark 4 or more targets (MARKS.yaml), then topostation calibrate stereo --left '" + dir +
+      "/raw/*_left.png' --right '" + dir +
+      "/raw/*_right.png' --control-field FIELD.yaml --marks MARKS.yaml --start " + dir +
+      "/design.yaml --out CAL.yaml";
+  return SaveCalibrationYaml(rig, dir + "/design.yaml");
+}
+
 ProcessOptions DaemonProcessOptions() {
   ProcessOptions o;
   o.self_calibrate_rig = true;  // the stage drifts with every transport (issue 21)
@@ -89,7 +117,10 @@ void JobRunner::PublishJob(int64_t id) {
 
 void JobRunner::SetState(Running* run, JobState state, const nlohmann::json& summary,
                          const std::string& error) {
-  run->job.state = state;
+  {
+    std::lock_guard lock(mutex_);  // CurrentJob() reads it from the API's threads
+    run->job.state = state;
+  }
   Record(run->job.id, state, summary, error);
 }
 
@@ -272,41 +303,22 @@ void JobRunner::RunRigJob(Running* run) {
     std::unique_ptr<StationProcessor> processor;
     if (survey)
       processor = std::make_unique<StationProcessor>(dir, DaemonProcessOptions(), control);
-    CaptureOptions options;
-    options.plan.upper_poses = !job.parameters.value("single_row", false);
-    if (job.kind == JobKind::kCaptureField) {
-      FieldPoseGrid grid;
-      grid.centre_pan_deg = job.parameters.value("field_pan_deg", 0.0);
-      grid.centre_tilt_deg = job.parameters.value("field_tilt_deg", 0.0);
-      grid.pans = job.parameters.value("field_pans", grid.pans);
-      grid.tilts = job.parameters.value("field_tilts", grid.tilts);
-      options.given_plan = MakeFieldPoseGrid(grid);
-      options.plan.upper_poses = false;
-    }
-    const Result<CaptureSummary> captured = CaptureStation(
-        **stage, **left, **right, *rig, dir, resume, options, [&](const CaptureEvent& e) {
-          OnCaptureEvent(run, e);
-          if (processor && e.kind == CaptureEventKind::kPairCaptured)
-            processor->AddPair(*e.record, *e.left_image, *e.right_image);
-        });
+    const Result<CaptureSummary> captured =
+        CaptureStation(**stage, **left, **right, *rig, dir, resume, CaptureOptionsFor(job),
+                       [&](const CaptureEvent& e) {
+                         OnCaptureEvent(run, e);
+                         if (processor && e.kind == CaptureEventKind::kPairCaptured)
+                           processor->AddPair(*e.record, *e.left_image, *e.right_image);
+                       });
     if (!captured) return fail(captured.error());
     nlohmann::json summary = {{"pairs", captured->total_pairs},
                               {"captured_now", captured->captured_now},
                               {"capture_s", captured->seconds},
                               {"retakes", captured->retakes},
                               {"frame_retries", captured->frame_retries}};
-    if (job.kind == JobKind::kCaptureField) {  // the cameras it starts from: the rig's now
-      summary["session"] = dir;
-      if (Status s = SaveCalibrationYaml(rig->calibration, dir + "/design.yaml"); !s)
+    if (job.kind == JobKind::kCaptureField)
+      if (Status s = FinishFieldSession(rig->calibration, dir, &summary); !s)
         return fail(s.error());
-      summary["next"] =
-          "mark 4 or more targets (MARKS.yaml), then topostation calibrate stereo "
-          "--left '" +
-          dir + "/raw/*_left.png' --right '" + dir +
-          "/raw/*_right.png' --control-field FIELD.yaml --marks MARKS.yaml "
-          "--start " +
-          dir + "/design.yaml --out CAL.yaml";
-    }
     if (!survey) return SetState(run, JobState::kDone, summary);
     SetState(run, JobState::kProcessing);
     Result<ProcessResult> processed = processor->Finish();
