@@ -27,6 +27,7 @@ void AddProcessCommands(CLI::App& app);  // process, evaluate, ground-filter
 void AddSurveyCommand(CLI::App& app);
 void AddTerrainCorrectionCommand(CLI::App& app);
 void AddDiffCommand(CLI::App& app);
+void AddCampaignCommand(CLI::App& app);
 void AddCalibrateCommand(CLI::App& app);
 void AddCalibrateRigCommand(CLI::App* calibrate);  // under `calibrate`
 

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   ts::AddSurveyCommand(app);
   ts::AddTerrainCorrectionCommand(app);
   ts::AddDiffCommand(app);
+  ts::AddCampaignCommand(app);
   ts::AddCalibrateCommand(app);
   ts::SetProgramArguments(argc, argv);
   try {

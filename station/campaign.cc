@@ -1,0 +1,220 @@
+#include "station/campaign.h"
+
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "processing/io/raster.h"
+#include "processing/io/station_manifest.h"
+
+namespace ts {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json ReadJsonOrNull(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) return nullptr;
+  return nlohmann::json::parse(in, nullptr, false, true);
+}
+
+nlohmann::json Field(const nlohmann::json& object, const char* key) {
+  return object.is_object() && object.contains(key) ? object[key] : nlohmann::json();
+}
+
+std::string RingColumn(const nlohmann::json& ring) {
+  auto edge = [](const nlohmann::json& v) {
+    if (!v.is_number()) return std::string("end");
+    std::ostringstream out;
+    out << v.get<double>();
+    return out.str();
+  };
+  return "ring_" + edge(ring["inner_m"]) + "_" + edge(ring["outer_m"]) + "_mgal";
+}
+
+std::string CsvCell(const nlohmann::ordered_json& v) {
+  std::string text;
+  if (v.is_null()) return "";
+  if (v.is_string())
+    text = v.get<std::string>();
+  else if (v.is_array()) {
+    for (const auto& item : v) {
+      if (!text.empty()) text += " | ";
+      text += item.get<std::string>();
+    }
+  } else {
+    text = v.dump();
+  }
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+}  // namespace
+
+Result<std::vector<std::string>> FindStations(const std::vector<std::string>& dirs) {
+  std::vector<std::string> stations;
+  for (const std::string& dir : dirs) {
+    if (fs::exists(fs::path(dir) / kManifestFileName)) {
+      stations.push_back(dir);
+      continue;
+    }
+    if (!fs::is_directory(dir)) return Error{dir + ": not a station nor a directory of stations"};
+    std::vector<std::string> inside;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (fs::exists(e.path() / kManifestFileName)) inside.push_back(e.path().string());
+    if (inside.empty()) return Error{dir + ": no station in it (no */station.json)"};
+    std::sort(inside.begin(), inside.end());
+    stations.insert(stations.end(), inside.begin(), inside.end());
+  }
+  return stations;
+}
+
+Result<nlohmann::ordered_json> CampaignRow(const std::string& dir) {
+  const nlohmann::json manifest = ReadJsonOrNull(fs::path(dir) / kManifestFileName);
+  if (!manifest.is_object()) return Error{dir + "/station.json: not readable JSON"};
+  const nlohmann::json fields = ReadJsonOrNull(fs::path(dir) / "station_fields.json");
+  const nlohmann::json report = ReadJsonOrNull(fs::path(dir) / "products/report.json");
+  const nlohmann::json tc = ReadJsonOrNull(fs::path(dir) / "products/terrain_correction.json");
+  const nlohmann::json evaluation = ReadJsonOrNull(fs::path(dir) / "products/evaluation.json");
+  const nlohmann::json gnss = Field(fields, "gnss");
+  nlohmann::ordered_json row;
+  row["station"] = manifest.value("station_id", fs::path(dir).filename().string());
+  row["line"] = Field(fields, "line");
+  const nlohmann::json pairs = Field(manifest, "pairs");
+  row["time_utc"] = pairs.is_array() && !pairs.empty() ? Field(pairs[0], "captured_utc")
+                                                       : Field(manifest, "created_utc");
+  row["instrument_height_m"] =
+      manifest["calibration"]["stage"].value("height_above_mark_m", nlohmann::json());
+  row["lat_deg"] = Field(gnss, "lat_deg");
+  row["lon_deg"] = Field(gnss, "lon_deg");
+  row["height_m"] = Field(gnss, "height_m");
+  row["position_source"] = gnss.is_object() ? nlohmann::json("GNSS") : nlohmann::json();
+  row["density_g_cm3"] = Field(tc, "density_g_cm3");
+  row["terrain_correction_mgal"] = Field(report, "terrain_correction_mgal");
+  row["terrain_correction_sigma_mgal"] = Field(report, "terrain_correction_sigma_mgal");
+  for (const nlohmann::json& ring :
+       Field(tc, "rings").is_array() ? tc["rings"] : nlohmann::json::array())
+    row[RingColumn(ring)] = Field(ring, "mgal");
+  row["coverage_30m"] = Field(Field(report, "dem"), "coverage_30m");
+  row["dem_rmse_m"] = Field(evaluation, "dem_rmse_m");
+  row["calibration"] = Field(Field(report, "calibration"), "source");
+  row["verdict"] = report.is_object() ? Field(report, "verdict") : nlohmann::json("not processed");
+  row["warnings"] = Field(report, "warnings");
+  return row;
+}
+
+std::string CampaignCsv(const std::vector<nlohmann::ordered_json>& rows) {
+  std::vector<std::string> columns;
+  for (const auto& row : rows)
+    for (const auto& [key, value] : row.items())
+      if (std::find(columns.begin(), columns.end(), key) == columns.end()) columns.push_back(key);
+  std::string csv;
+  for (size_t i = 0; i < columns.size(); ++i) {
+    if (i) csv += ',';
+    csv += columns[i];
+  }
+  csv += '\n';
+  for (const auto& row : rows) {
+    for (size_t i = 0; i < columns.size(); ++i) {
+      if (i) csv += ',';
+      csv += CsvCell(row.contains(columns[i]) ? row[columns[i]] : nlohmann::ordered_json());
+    }
+    csv += '\n';
+  }
+  return csv;
+}
+
+namespace {
+
+struct DatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+
+// The DEM's outline in EPSG:4326, when it is in a projected CRS (GCPs); nullptr in L.
+std::unique_ptr<OGRPolygon> FootprintWgs84(const std::string& dir,
+                                           const OGRSpatialReference& wgs84) {
+  const Result<Raster> dem = ReadGeoTiff(dir + "/products/dem.tif");
+  if (!dem || dem->crs_wkt.empty()) return nullptr;
+  OGRSpatialReference crs;
+  if (crs.importFromWkt(dem->crs_wkt.c_str()) != OGRERR_NONE) return nullptr;
+  crs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_wgs84(
+      OGRCreateCoordinateTransformation(&crs, &wgs84));
+  if (!to_wgs84) return nullptr;
+  const double x0 = dem->min_x_m, y1 = dem->max_y_m;
+  const double x1 = x0 + dem->cols * dem->cell_m, y0 = y1 - dem->rows * dem->cell_m;
+  OGRLinearRing ring;
+  for (auto [x, y] : {std::pair{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}})
+    ring.addPoint(x, y);
+  auto polygon = std::make_unique<OGRPolygon>();
+  polygon->addRing(&ring);
+  if (polygon->transform(to_wgs84.get()) != OGRERR_NONE) return nullptr;
+  return polygon;
+}
+
+}  // namespace
+
+Status WriteCampaignGeoPackage(const std::vector<nlohmann::ordered_json>& rows,
+                               const std::vector<std::string>& station_dirs,
+                               const std::string& file) {
+  GDALAllRegister();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
+  if (!driver) return Error{"GDAL has no GPKG driver"};
+  std::error_code ec;
+  fs::remove(file, ec);
+  std::unique_ptr<GDALDataset, DatasetCloser> ds(
+      driver->Create(file.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+  if (!ds) return Error{file + ": cannot create the GeoPackage"};
+  OGRSpatialReference wgs84;
+  wgs84.importFromEPSG(4326);
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  OGRLayer* points = ds->CreateLayer("stations", &wgs84, wkbPoint, nullptr);
+  OGRLayer* footprints = ds->CreateLayer("dem_footprints", &wgs84, wkbPolygon, nullptr);
+  if (!points || !footprints) return Error{file + ": cannot create its layers"};
+  const std::vector<std::pair<const char*, OGRFieldType>> columns = {
+      {"station", OFTString},
+      {"line", OFTString},
+      {"time_utc", OFTString},
+      {"terrain_correction_mgal", OFTReal},
+      {"terrain_correction_sigma_mgal", OFTReal},
+      {"coverage_30m", OFTReal},
+      {"verdict", OFTString}};
+  for (const auto& [name, type] : columns) {
+    OGRFieldDefn field(name, type);
+    if (points->CreateField(&field) != OGRERR_NONE) return Error{file + ": cannot add " + name};
+  }
+  OGRFieldDefn station_field("station", OFTString);
+  footprints->CreateField(&station_field);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    OGRFeature point(points->GetLayerDefn());
+    for (const auto& [name, type] : columns) {
+      const auto& v = row[name];
+      if (v.is_string()) point.SetField(name, v.get<std::string>().c_str());
+      if (v.is_number()) point.SetField(name, v.get<double>());
+    }
+    OGRPoint where;
+    if (row["lat_deg"].is_number() && row["lon_deg"].is_number()) {
+      where = OGRPoint(row["lon_deg"].get<double>(), row["lat_deg"].get<double>());
+      point.SetGeometry(&where);
+    }
+    if (points->CreateFeature(&point) != OGRERR_NONE)
+      return Error{file + ": cannot write a station"};
+    if (std::unique_ptr<OGRPolygon> outline = FootprintWgs84(station_dirs[i], wgs84)) {
+      OGRFeature footprint(footprints->GetLayerDefn());
+      footprint.SetField("station", row["station"].get<std::string>().c_str());
+      footprint.SetGeometry(outline.get());
+      if (footprints->CreateFeature(&footprint) != OGRERR_NONE)
+        return Error{file + ": cannot write a footprint"};
+    }
+  }
+  return {};
+}
+
+}  // namespace ts
