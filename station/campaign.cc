@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
+#include "processing/io/json_fields.h"
 #include "processing/io/raster.h"
 #include "processing/io/station_manifest.h"
 
@@ -15,12 +15,6 @@ namespace ts {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json ReadJsonOrNull(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return nullptr;
-  return nlohmann::json::parse(in, nullptr, false, true);
-}
 
 nlohmann::json Field(const nlohmann::json& object, const char* key) {
   return object.is_object() && object.contains(key) ? object[key] : nlohmann::json();
@@ -76,12 +70,16 @@ Result<std::vector<std::string>> FindStations(const std::vector<std::string>& di
 }
 
 Result<nlohmann::ordered_json> CampaignRow(const std::string& dir) {
-  const nlohmann::json manifest = ReadJsonOrNull(fs::path(dir) / kManifestFileName);
+  const nlohmann::json manifest = ReadJsonFileOrNull((fs::path(dir) / kManifestFileName).string());
   if (!manifest.is_object()) return Error{dir + "/station.json: not readable JSON"};
-  const nlohmann::json fields = ReadJsonOrNull(fs::path(dir) / "station_fields.json");
-  const nlohmann::json report = ReadJsonOrNull(fs::path(dir) / "products/report.json");
-  const nlohmann::json tc = ReadJsonOrNull(fs::path(dir) / "products/terrain_correction.json");
-  const nlohmann::json evaluation = ReadJsonOrNull(fs::path(dir) / "products/evaluation.json");
+  const nlohmann::json fields =
+      ReadJsonFileOrNull((fs::path(dir) / "station_fields.json").string());
+  const nlohmann::json report =
+      ReadJsonFileOrNull((fs::path(dir) / "products/report.json").string());
+  const nlohmann::json tc =
+      ReadJsonFileOrNull((fs::path(dir) / "products/terrain_correction.json").string());
+  const nlohmann::json evaluation =
+      ReadJsonFileOrNull((fs::path(dir) / "products/evaluation.json").string());
   const nlohmann::json gnss = Field(fields, "gnss");
   nlohmann::ordered_json row;
   row["station"] = manifest.value("station_id", fs::path(dir).filename().string());

@@ -9,8 +9,6 @@
 // since the truth is known, the DEM is evaluated against it. --true-calibration (for
 // benchmarks that isolate matching from calibration) and --nominal-calibration skip the
 // session.
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,6 +22,7 @@
 #include "sim/sim_server.h"
 #include "sim/sim_station.h"
 #include "sim/truth.h"
+#include "station/child_process.h"
 #include "station/commands.h"
 #include "station/option_flags.h"
 #include "station/private_network.h"
@@ -50,21 +49,11 @@ struct SurveyArgs {
 
 // Runs this program with `args`, its output to `log`; throws with the log's path on failure.
 void RunSelf(const std::vector<std::string>& args, const std::string& log) {
-  std::string exe = ThisProgram();
-  std::vector<char*> argv = {exe.data()};
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  std::vector<std::string> command = {ThisProgram()};
+  command.insert(command.end(), args.begin(), args.end());
+  const Result<pid_t> pid = SpawnWithLog(command, log);
   int status = 0;
-  if (spawned != 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
-      WEXITSTATUS(status) != 0)
+  if (!pid || ::waitpid(*pid, &status, 0) != *pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw CommandError(args[0] + " " + args[1] + " failed: see " + log);
 }
 

@@ -1,6 +1,7 @@
 #include "processing/io/json_fields.h"
 
 #include <cmath>
+#include <fstream>
 
 namespace ts {
 
@@ -98,6 +99,14 @@ json JsonFromYaml(const YAML::Node& node) {
     default:
       return nullptr;
   }
+}
+
+nlohmann::json ReadJsonFileOrNull(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) return nullptr;
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) return nullptr;
+  return j;
 }
 
 }  // namespace ts

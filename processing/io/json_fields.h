@@ -34,6 +34,10 @@ class JsonObject {
   std::string path_;
 };
 
+// A JSON file's content; null when the file is missing or not JSON (for optional files such as
+// a station's products, read by callers that check each field's type).
+nlohmann::json ReadJsonFileOrNull(const std::string& file);
+
 // Converts a YAML document to JSON; scalars become integers, numbers or booleans when they
 // read as such, otherwise strings.
 nlohmann::json JsonFromYaml(const YAML::Node& node);

@@ -1,17 +1,15 @@
 #include "station/daemon/calibrate_job.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include "processing/io/calibration_yaml.h"
+#include "station/child_process.h"
 
 namespace ts::daemon {
 namespace {
@@ -44,18 +42,9 @@ Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& stati
   std::vector<std::string> args = {Topostation(), "calibrate", "rig"};
   args.insert(args.end(), station_dirs.begin(), station_dirs.end());
   args.insert(args.end(), {"--calibration", start_yaml, "--out", out_yaml, "--json"});
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return Error{std::string("cannot run ") + argv[0] + ": " + strerror(spawned)};
+  const Result<pid_t> spawned = SpawnWithLog(args, log);
+  if (!spawned) return Error{spawned.error()};
+  const pid_t pid = *spawned;
   int status = 0;
   while (::waitpid(pid, &status, WNOHANG) == 0) {
     if (should_stop && should_stop()) {

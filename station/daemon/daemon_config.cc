@@ -103,7 +103,9 @@ Result<std::string> NextStationId(const std::string& pattern, const std::string&
     }
     return id;
   };
-  for (int n = 1; n < 1000000; ++n) {
+  // Without {n} there is one id to try (two {utc} captures in one second: the second fails).
+  const int last = pattern.find("{n}") == std::string::npos ? 1 : 999999;
+  for (int n = 1; n <= last; ++n) {
     const std::string id = fill(n);
     if (!IsStationId(id))
       return Error{"headless.station_pattern '" + pattern + "' gives '" + id +

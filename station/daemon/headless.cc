@@ -23,7 +23,8 @@ void HeadlessScheduler::Tick(Clock::time_point now) {
       NextStationId(config_.headless.station_pattern, config_.stations_dir);
   if (!station) {
     Log().error("headless: {}", station.error());
-    started_once_ = true, last_start_ = now;
+    started_once_ = true;
+    last_start_ = now;
     return;
   }
   JobRequest request;

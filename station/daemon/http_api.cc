@@ -135,10 +135,11 @@ bool HttpApi::Authorized(const httplib::Request& req, httplib::Response& res) {
 }
 
 nlohmann::json HttpApi::StatusJson() const {
+  const std::string not_ready = parts_.devices->WhyNotReady();
   return {{"version", SoftwareVersion()},
           {"devices", parts_.devices->DevicesJson()},
-          {"ready", parts_.devices->WhyNotReady().empty()},
-          {"not_ready_because", parts_.devices->WhyNotReady()},
+          {"ready", not_ready.empty()},
+          {"not_ready_because", not_ready},
           {"stage", parts_.devices->stage_reading().ToJson()},
           {"disk_free_bytes", DiskFreeBytes(parts_.config->stations_dir)},
           {"current_job", parts_.jobs->CurrentJob()}};

@@ -161,15 +161,11 @@ std::variant<Job, JobError> JobRunner::Submit(const JobRequest& request,
     return JobError{409, "station '" + request.station +
                              "' exists already: choose another id, or resume the job that "
                              "captured it"};
-  std::string holder;
-  std::unique_ptr<RigLease> lease = devices_->TryLease(
-      std::string(JobKindName(request.kind)) + " of station " + request.station, &holder);
-  if (!lease) return JobError{409, "the rig is in use: " + holder};
-  if (const std::string why = devices_->WhyNotReady(); !why.empty())
-    return JobError{409, "the rig cannot capture: " + why};
+  auto lease = LeaseRig(request.kind, request.station);
+  if (const JobError* e = std::get_if<JobError>(&lease)) return *e;
   Result<Job> created = store_->Create(job, existed);
   if (!created) return JobError{500, created.error()};
-  StartRigJob(*created, std::move(lease));
+  StartRigJob(*created, std::move(std::get<std::unique_ptr<RigLease>>(lease)));
   return *created;
 }
 
@@ -182,17 +178,13 @@ std::variant<Job, JobError> JobRunner::Resume(int64_t id) {
     return JobError{409, "job " + std::to_string(id) + " is a " + JobKindName(job->kind) +
                              " job in state " + JobStateName(job->state) +
                              ": only a stopped survey or capture resumes"};
-  std::string holder;
-  std::unique_ptr<RigLease> lease = devices_->TryLease(
-      std::string(JobKindName(job->kind)) + " of station " + job->station, &holder);
-  if (!lease) return JobError{409, "the rig is in use: " + holder};
-  if (const std::string why = devices_->WhyNotReady(); !why.empty())
-    return JobError{409, "the rig cannot capture: " + why};
+  auto lease = LeaseRig(job->kind, job->station);
+  if (const JobError* e = std::get_if<JobError>(&lease)) return *e;
   job->parameters["resumed"] = job->parameters.value("resumed", 0) + 1;
   if (Status s = store_->SetParameters(id, job->parameters); !s) return JobError{500, s.error()};
   Record(id, JobState::kQueued);
   job->state = JobState::kQueued;
-  StartRigJob(*job, std::move(lease));
+  StartRigJob(*job, std::move(std::get<std::unique_ptr<RigLease>>(lease)));
   return *job;
 }
 
@@ -218,6 +210,17 @@ std::variant<Job, JobError> JobRunner::Cancel(int64_t id) {
   if (UsesRig(job->kind))  // at once, not at the next pair
     if (Status s = devices_->StopStage(); !s) Log().warn("stopping the stage: {}", s.error());
   return *store_->Get(id);
+}
+
+std::variant<std::unique_ptr<RigLease>, JobError> JobRunner::LeaseRig(JobKind kind,
+                                                                      const std::string& station) {
+  std::string holder;
+  std::unique_ptr<RigLease> lease =
+      devices_->TryLease(std::string(JobKindName(kind)) + " of station " + station, &holder);
+  if (!lease) return JobError{409, "the rig is in use: " + holder};
+  if (const std::string why = devices_->WhyNotReady(); !why.empty())
+    return JobError{409, "the rig cannot capture: " + why};
+  return lease;
 }
 
 void JobRunner::StartRigJob(const Job& job, std::unique_ptr<RigLease> lease) {
@@ -369,13 +372,11 @@ void JobRunner::RecoverAfterRestart() {
       process_wake_.notify_all();
       continue;
     }
-    std::string holder;
-    std::unique_ptr<RigLease> lease = devices_->TryLease(
-        std::string(JobKindName(job.kind)) + " of station " + job.station, &holder);
-    if (lease)
-      StartRigJob(job, std::move(lease));
+    auto lease = LeaseRig(job.kind, job.station);
+    if (const JobError* e = std::get_if<JobError>(&lease))
+      Record(job.id, JobState::kInterrupted, nullptr, e->message);
     else
-      Record(job.id, JobState::kInterrupted, nullptr, "the rig was in use: " + holder);
+      StartRigJob(job, std::move(std::get<std::unique_ptr<RigLease>>(lease)));
   }
 }
 

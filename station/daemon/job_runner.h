@@ -54,6 +54,9 @@ class JobRunner {
 
  private:
   struct Running;
+  // The rig for a job of `kind`, or 409 naming who holds it or which device is missing.
+  std::variant<std::unique_ptr<RigLease>, JobError> LeaseRig(JobKind kind,
+                                                             const std::string& station);
   void StartRigJob(const Job& job, std::unique_ptr<RigLease> lease);
   void RunRigJob(Running* run);
   void OnCaptureEvent(Running* run, const CaptureEvent& e);

@@ -1,8 +1,8 @@
 #include "station/daemon/station_catalog.h"
 
 #include <filesystem>
-#include <fstream>
 
+#include "processing/io/json_fields.h"
 #include "processing/io/station_manifest.h"
 #include "station/daemon/daemon_config.h"
 
@@ -10,12 +10,6 @@ namespace ts::daemon {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json ReadJsonOrNull(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return nullptr;
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 std::vector<std::string> Products(const fs::path& dir) {
   std::vector<std::string> names;
@@ -28,9 +22,9 @@ std::vector<std::string> Products(const fs::path& dir) {
 }
 
 nlohmann::json Summary(const std::string& id, const fs::path& dir) {
-  const nlohmann::json manifest = ReadJsonOrNull(dir / kManifestFileName);
-  const nlohmann::json report = ReadJsonOrNull(dir / "products/report.json");
-  const nlohmann::json fields = ReadJsonOrNull(dir / "station_fields.json");
+  const nlohmann::json manifest = ReadJsonFileOrNull((dir / kManifestFileName).string());
+  const nlohmann::json report = ReadJsonFileOrNull((dir / "products/report.json").string());
+  const nlohmann::json fields = ReadJsonFileOrNull((dir / "station_fields.json").string());
   nlohmann::json s = {{"id", id}, {"processed", report.is_object()}};
   if (manifest.is_object()) {
     s["created_utc"] = manifest.value("created_utc", "");
@@ -85,10 +79,10 @@ std::optional<nlohmann::json> StationCatalog::Get(const std::string& id) const {
   const fs::path dir = fs::path(dir_) / id;
   if (!fs::exists(dir / kManifestFileName)) return std::nullopt;
   nlohmann::json j = Summary(id, dir);
-  j["manifest"] = ReadJsonOrNull(dir / kManifestFileName);
-  j["fields"] = ReadJsonOrNull(dir / "station_fields.json");
-  j["report"] = ReadJsonOrNull(dir / "products/report.json");
-  j["terrain_correction"] = ReadJsonOrNull(dir / "products/terrain_correction.json");
+  j["manifest"] = ReadJsonFileOrNull((dir / kManifestFileName).string());
+  j["fields"] = ReadJsonFileOrNull((dir / "station_fields.json").string());
+  j["report"] = ReadJsonFileOrNull((dir / "products/report.json").string());
+  j["terrain_correction"] = ReadJsonFileOrNull((dir / "products/terrain_correction.json").string());
   j["products"] = Products(dir);
   return j;
 }

@@ -171,6 +171,6 @@ int main(int argc, char** argv) {
   table.Add(
       {"client requests failed", static_cast<double>(load.failures), "", "0", load.failures == 0});
   table.Add({"GET /status p95 under load", p95, "ms", "", true});
-  if (!std::getenv("KEEP")) std::filesystem::remove_all(dir);
+  std::filesystem::remove_all(dir);
   return table.Finish(argc, argv);
 }

@@ -87,6 +87,12 @@ class DaemonTest : public ::testing::Test {
     return job.is_object() ? job.value("pairs_done", 0) : 0;
   }
 
+  // Waits (up to 30 s) until the running job has taken `pairs`; the pairs it has then.
+  static int WaitForPairs(const DaemonProcess& d, int pairs) {
+    for (int i = 0; i < 600 && PairsDone(d) < pairs; ++i) std::this_thread::sleep_for(50ms);
+    return PairsDone(d);
+  }
+
   static constexpr int kStagePort = 15320;
   static constexpr int kApiPort = 18321;
   static std::shared_ptr<const sim::SimStation> station_;
@@ -335,8 +341,7 @@ TEST_F(DaemonTest, KilledMidCaptureTheJobResumesAndKilledMidProcessingItRunsAgai
   ASSERT_TRUE(WaitReady(*d));
   const int64_t id = StartSurvey(*d);
   ASSERT_GT(id, 0);
-  for (int i = 0; i < 600 && PairsDone(*d) < 4; ++i) std::this_thread::sleep_for(50ms);
-  ASSERT_GE(PairsDone(*d), 4);
+  ASSERT_GE(WaitForPairs(*d, 4), 4);
   d->Kill(SIGKILL);
   const std::string station = d->stations_dir() + "/S1";
   const std::map<int, std::string> before = PairShas(station);
@@ -382,7 +387,7 @@ TEST_F(DaemonTest, CancelStopsTheStageAtOnceAndLeavesAStationThatValidates) {
   ASSERT_TRUE(WaitReady(*d));
   const int64_t id = StartSurvey(*d);
   ASSERT_GT(id, 0);
-  for (int i = 0; i < 600 && PairsDone(*d) < 2; ++i) std::this_thread::sleep_for(50ms);
+  WaitForPairs(*d, 2);
   // Cancel while the stage turns to the next pose.
   for (int i = 0; i < 200; ++i) {
     const StagePose a = server_->stage().Pose();
@@ -421,7 +426,7 @@ TEST_F(DaemonTest, DevicesLostAndBackChangeStateAndTheNextJobRuns) {
   };
   const int64_t id = StartSurvey(*d);
   ASSERT_GT(id, 0);
-  for (int i = 0; i < 600 && PairsDone(*d) < 2; ++i) std::this_thread::sleep_for(50ms);
+  WaitForPairs(*d, 2);
   server_->camera(Side::kRight).Stop();  // gone longer than the capture waits for it
   const nlohmann::json failed = d->WaitForJob(id, Finished, 60s);
   ASSERT_EQ(failed["state"], "failed") << failed.dump();
@@ -492,7 +497,7 @@ TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt)
   EXPECT_EQ(job["station"], "auto-1");
   EXPECT_EQ(job["parameters"]["line"], "H");
   EXPECT_EQ(job["parameters"]["instrument_height_m"], 1.4);
-  for (int i = 0; i < 600 && PairsDone(*d) < 1; ++i) std::this_thread::sleep_for(50ms);
+  WaitForPairs(*d, 1);
   EXPECT_EQ(WEXITSTATUS(d->Kill(SIGTERM)), 0);
   // Read the history the daemon left, as the next start will.
   auto store = DaemonProcess(dir_.path().string(), kApiPort, WriteRig());
