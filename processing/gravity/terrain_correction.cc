@@ -1,5 +1,6 @@
 #include "processing/gravity/terrain_correction.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -27,6 +28,14 @@ int RingOf(double d) {
   for (int k = 1; k < kRings; ++k)
     if (d < kRingEdges[k]) return k - 1;
   return kRings - 1;
+}
+
+// The sector of a direction (x, y), bearings clockwise from +Y, sector 0 centred on 0 deg.
+int SectorOf(double x, double y) {
+  const double width = 360.0 / kSectors;
+  const double bearing = std::atan2(x, y) * 180.0 / M_PI + 0.5 * width;
+  const int k = static_cast<int>(std::floor(bearing / width));
+  return ((k % kSectors) + kSectors) % kSectors;
 }
 
 // The correction of one column between height h and the reference H over the rectangle
@@ -96,6 +105,11 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
   std::vector<double> ring_sum(kRings, 0.0);
   std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0), ring_seen(kRings, 0);
   std::vector<double> ring_variance(kRings, 0.0), ring_unseen(kRings, 0.0);
+  struct SectorSums {
+    int cells = 0, data = 0;
+    double variance = 0.0, unseen = 0.0;
+  };
+  std::vector<std::array<SectorSums, kSectors>> sector(kRings);
   double correlated = 0.0;
   const double half = 0.5 * dem.cell_m;
   for (int r = 0; r < dem.rows; ++r)
@@ -104,12 +118,15 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       const double d = std::hypot(cx, cy);
       if (o.radius_m > 0 && d > o.radius_m) continue;
       const int ring = RingOf(d);
+      SectorSums& in_sector = sector[ring][SectorOf(cx, cy)];
       ++ring_cells[ring];
+      ++in_sector.cells;
       const float h = dem.at(r, c);
       if (Raster::IsNoData(h)) continue;
       const CellGround kind =
           ground ? (*ground)[static_cast<size_t>(r) * dem.cols + c] : CellGround::kSeen;
       ring_data[ring] += kind != CellGround::kEstimated;
+      in_sector.data += kind != CellGround::kEstimated;
       ring_seen[ring] += kind == CellGround::kSeen;
       double value = 0.0;
       const bool refine = d - half * M_SQRT2 < o.refine_radius_m;
@@ -131,10 +148,13 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
               (Column(cx - half, cx + half, cy - half, cy + half, h + eps, ref, sensor_z, o) -
                Column(cx - half, cx + half, cy - half, cy + half, h - eps, ref, sensor_z, o)) /
               (2 * eps);
-          if (kind == CellGround::kSeen)
+          if (kind == CellGround::kSeen) {
             ring_variance[ring] += derivative * derivative * s * s;
-          else
+            in_sector.variance += derivative * derivative * s * s;
+          } else {
             ring_unseen[ring] += std::abs(derivative) * s;
+            in_sector.unseen += std::abs(derivative) * s;
+          }
           correlated += std::abs(derivative) * s;
         }
       }
@@ -153,6 +173,12 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
     ring.coverage = ring_cells[k] ? static_cast<double>(ring_data[k]) / ring_cells[k] : 0.0;
     ring.sigma_unseen_mgal = ring_unseen[k];
     ring.sigma_mgal = std::sqrt(ring_variance[k] + ring_unseen[k] * ring_unseen[k]);
+    for (int j = 0; j < kSectors; ++j) {
+      const SectorSums& in = sector[k][j];
+      ring.sectors.push_back({j * 360.0 / kSectors,
+                              in.cells ? static_cast<double>(in.data) / in.cells : 0.0,
+                              std::sqrt(in.variance + in.unseen * in.unseen)});
+    }
     if (ring_cells[k] > 0 && ring.coverage < o.min_ring_coverage) {
       char text[160];
       std::snprintf(

@@ -77,13 +77,24 @@ struct TerrainCorrectionOptions {
   bool Check(std::string* why) const;
 };
 
+// A ring's cells in one direction: which way to look again when the ring is thin.
+struct SectorContribution {
+  double bearing_deg = 0.0;  // centre, clockwise from the frame's +Y (pan 0 in frame L)
+  double coverage = 0.0;     // share of its cells with data
+  double sigma_mgal = 0.0;   // its seen and unseen parts together, as the ring's
+};
+
 struct RingContribution {
   double inner_m = 0.0, outer_m = 0.0;  // outer = infinity for "the rest of the DEM"
   double mgal = 0.0;
   double coverage = 0.0;           // share of the ring's cells with data
   double sigma_mgal = 0.0;         // the ring's own sigma (its seen and unseen parts together)
   double sigma_unseen_mgal = 0.0;  // of it, from ground nobody saw
+  std::vector<SectorContribution> sectors;  // kSectors of them, bearings 0, 30, ... 330 deg
 };
+
+// As many sectors as the capture plan has poses per row, centred on their pans.
+constexpr int kSectors = 12;
 
 struct TerrainCorrection {
   double total_mgal = 0.0;

@@ -8,14 +8,20 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
                                        const TerrainCorrectionOptions& o,
                                        const Eigen::Vector3d& mark) {
   nlohmann::json rings = nlohmann::json::array();
-  for (const RingContribution& r : tc.rings)
+  for (const RingContribution& r : tc.rings) {
+    nlohmann::json sectors = nlohmann::json::array();
+    for (const SectorContribution& s : r.sectors)
+      sectors.push_back(
+          {{"bearing_deg", s.bearing_deg}, {"coverage", s.coverage}, {"sigma_mgal", s.sigma_mgal}});
     rings.push_back({{"inner_m", r.inner_m},
                      {"outer_m", std::isinf(r.outer_m) ? nlohmann::json("end of DEM")
                                                        : nlohmann::json(r.outer_m)},
                      {"mgal", r.mgal},
                      {"coverage", r.coverage},
                      {"sigma_mgal", r.sigma_mgal},
-                     {"sigma_unseen_mgal", r.sigma_unseen_mgal}});
+                     {"sigma_unseen_mgal", r.sigma_unseen_mgal},
+                     {"sectors", sectors}});
+  }
   // An unusable correction has no value: null, with the reason, never a number to copy.
   auto value = [&](double v) { return tc.Usable() ? nlohmann::json(v) : nlohmann::json(); };
   return {

@@ -209,6 +209,40 @@ TEST(TerrainCorrection, UnseenGroundIsOneUnknownSeenCellsAreIndependent) {
   EXPECT_DOUBLE_EQ(c.total_mgal, a.total_mgal);
 }
 
+// The sectors say which way a thin ring is thin: the 10-20 m ring without data due east
+// (bearing 90 deg, x > 0 in frame L) and with a std only there. Each sector's sigma adds up to
+// its ring's in quadrature (seen cells are independent).
+TEST(TerrainCorrection, SectorsNameTheDirectionOfAThinRing) {
+  Raster dem = Dem(35, 1, [](double x, double y) { return 0.1 * x + 0.02 * y; });
+  Raster std_dev = dem;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double x = dem.CellCentreX(c), y = dem.CellCentreY(r), d = std::hypot(x, y);
+      const double bearing = std::atan2(x, y) * 180.0 / M_PI;
+      const bool east = std::abs(bearing - 90.0) < 15.0;
+      std_dev.at(r, c) = d >= 10 && d < 20 && std::abs(bearing - 60.0) < 15.0 ? 0.5f : 0.05f;
+      if (d >= 10 && d < 20 && east) dem.at(r, c) = Raster::kNoData;
+    }
+  const TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
+  const RingContribution& ring = tc.rings[2];
+  ASSERT_EQ(ring.sectors.size(), static_cast<size_t>(kSectors));
+  double variance = 0.0;
+  for (int k = 0; k < kSectors; ++k) {
+    const SectorContribution& s = ring.sectors[k];
+    EXPECT_DOUBLE_EQ(s.bearing_deg, 30.0 * k);
+    EXPECT_EQ(s.coverage, k == 3 ? 0.0 : 1.0) << "sector " << k;
+    variance += s.sigma_mgal * s.sigma_mgal;
+    if (k != 2) {
+      EXPECT_LT(s.sigma_mgal, 0.5 * ring.sectors[2].sigma_mgal) << "sector " << k;
+    }
+  }
+  EXPECT_NEAR(std::sqrt(variance), ring.sigma_mgal, 1e-9);
+  EXPECT_NEAR(ring.coverage, 11.0 / 12.0, 0.02);
+  const nlohmann::json j = TerrainCorrectionToJson(tc, {}, {0, 0, 0});
+  EXPECT_EQ(j["rings"][2]["sectors"][3]["coverage"], 0.0);
+  EXPECT_EQ(j["rings"][2]["sectors"][3]["bearing_deg"], 90.0);
+}
+
 // Estimated from too little seen ground, a correction has no value: unusable, with the
 // reason, whatever its sigma says. A DEM with data only in a strip along one edge: a tenth of
 // the ground within 30 m, a third within 10 m.
