@@ -10,6 +10,7 @@
 #include "processing/io/json_fields.h"
 #include "processing/io/raster.h"
 #include "processing/io/station_manifest.h"
+#include "station/station_verdict.h"
 
 namespace ts {
 namespace {
@@ -102,7 +103,9 @@ Result<nlohmann::ordered_json> CampaignRow(const std::string& dir) {
   row["coverage_30m"] = Field(Field(report, "dem"), "coverage_30m");
   row["dem_rmse_m"] = Field(evaluation, "dem_rmse_m");
   row["calibration"] = Field(Field(report, "calibration"), "source");
-  row["verdict"] = report.is_object() ? Field(report, "verdict") : nlohmann::json("not processed");
+  const StationVerdict verdict = JudgeStationDir(dir);
+  row["verdict"] = verdict.verdict;
+  row["verdict_reason"] = verdict.text;
   row["warnings"] = Field(report, "warnings");
   return row;
 }

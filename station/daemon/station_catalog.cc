@@ -5,6 +5,7 @@
 #include "processing/io/json_fields.h"
 #include "processing/io/station_manifest.h"
 #include "station/daemon/daemon_config.h"
+#include "station/station_verdict.h"
 
 namespace ts::daemon {
 namespace {
@@ -29,7 +30,7 @@ nlohmann::json Summary(const std::string& id, const fs::path& dir) {
   if (manifest.is_object()) {
     s["created_utc"] = manifest.value("created_utc", "");
     s["pairs"] = manifest.contains("pairs") ? manifest["pairs"].size() : 0;
-    s["planned_pairs"] = manifest.contains("plan") ? manifest["plan"].size() : 0;
+    s["planned_pairs"] = manifest.contains("capture_plan") ? manifest["capture_plan"].size() : 0;
   }
   if (fields.is_object())
     for (const char* key : {"line", "operator", "instrument_height_m"})
@@ -37,6 +38,7 @@ nlohmann::json Summary(const std::string& id, const fs::path& dir) {
   if (report.is_object())
     for (const char* key : {"terrain_correction_mgal", "terrain_correction_sigma_mgal", "verdict"})
       if (report.contains(key)) s[key] = report[key];
+  s["assessment"] = JudgeStationDir(dir.string()).ToJson();
   return s;
 }
 
@@ -85,6 +87,25 @@ std::optional<nlohmann::json> StationCatalog::Get(const std::string& id) const {
   j["terrain_correction"] = ReadJsonFileOrNull((dir / "products/terrain_correction.json").string());
   j["products"] = Products(dir);
   return j;
+}
+
+std::optional<std::string> StationCatalog::StationDir(const std::string& id) const {
+  if (!IsStationId(id)) return std::nullopt;
+  const fs::path dir = fs::path(dir_) / id;
+  if (!fs::exists(dir / kManifestFileName)) return std::nullopt;
+  return dir.string();
+}
+
+std::optional<std::string> StationCatalog::PairImagePath(const std::string& id, int index,
+                                                         Side side) const {
+  const std::optional<std::string> dir = StationDir(id);
+  if (!dir) return std::nullopt;
+  const Result<StationManifest> m = LoadStationManifest(*dir);
+  if (!m) return std::nullopt;
+  for (const PairRecord& p : m->pairs)
+    if (p.index == index)
+      return (fs::path(*dir) / (side == Side::kLeft ? p.left.file : p.right.file)).string();
+  return std::nullopt;
 }
 
 std::optional<std::string> StationCatalog::ProductPath(const std::string& id,

@@ -41,6 +41,8 @@ void MakeStation(const std::string& dir, const std::string& id, double tc, bool 
              {"calibration", {{"source", "station.json (stage self-calibrated)"}}}});
   WriteJson(dir + "/products/terrain_correction.json",
             {{"density_g_cm3", 2.67},
+             {"verdict", "usable"},
+             {"sigma_mgal", 0.004},
              {"rings",
               {{{"inner_m", 0.0}, {"outer_m", 2.0}, {"mgal", 0.001}},
                {{"inner_m", 2.0}, {"outer_m", 10.0}, {"mgal", tc - 0.001}},
@@ -75,6 +77,7 @@ TEST(Campaign, OneRowPerStationFromItsOwnJsonAndAGeoPackageQgisCanOpen) {
   EXPECT_EQ(rows[0]["ring_2_10_mgal"], 0.040);
   EXPECT_EQ(rows[0]["ring_50_end_mgal"], 0.0);
   EXPECT_EQ(rows[0]["position_source"], "GNSS");
+  EXPECT_EQ(rows[0]["verdict"], "good");  // sigma 0.004 within the default 0.01 mGal
   EXPECT_EQ(rows[2]["verdict"], "not processed");
   EXPECT_TRUE(rows[2]["terrain_correction_mgal"].is_null());
 

@@ -35,7 +35,7 @@ TEST(StationCatalog, ListsStationsWithTheirTerrainCorrection) {
   testing::TempDir dir;
   fs::create_directories(dir / "S1/products");
   std::ofstream(dir / "S1/station.json") << R"({"created_utc": "2026-11-25T10:00:00Z",
-                                               "plan": [1, 2], "pairs": [1]})";
+                                               "capture_plan": [1, 2], "pairs": [1]})";
   std::ofstream(dir / "S1/products/report.json")
       << R"({"terrain_correction_mgal": 0.041, "terrain_correction_sigma_mgal": 0.006,
              "verdict": "usable"})";

@@ -1,0 +1,39 @@
+#pragma once
+// Is this station good enough to pack up? The operator's question before leaving a gravity
+// station (issue 25), answered in plain words from the terrain correction and its ring and
+// sector table, against the sigma the crew asked for:
+//   good       sigma within what was asked;
+//   retake     sigma beyond it, and most of it from a direction where the ring lacks data:
+//              the poses that look there, to take again (a passer-by, a vehicle, a dark pair);
+//   enough as it can be  sigma beyond it, but the ground that makes it was seen: the terrain's
+//              own roughness, which no retake lowers;
+//   unusable   the correction has no value (too little ground seen): the poses facing the
+//              emptiest direction.
+// The direction is a bearing in the station frame L, where it equals the stage's pan.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/stage_pose.h"
+
+namespace ts {
+
+// When the crew did not say: the usual aim of a microgravity survey's terrain correction.
+constexpr double kDefaultRequiredSigmaMgal = 0.01;
+
+struct StationVerdict {
+  std::string verdict;            // good | retake | as good as it gets | unusable | not processed
+  std::string text;               // one sentence for the operator
+  std::vector<StagePose> retake;  // poses of the plan to take again
+  nlohmann::json ToJson() const;
+};
+
+// tc: terrain_correction.json (null: not processed); plan: the capture plan's poses.
+StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePose>& plan,
+                            double required_sigma_mgal);
+
+// The same from a station directory: station.json's plan, station_fields.json's
+// required_sigma_mgal (else the default), products/terrain_correction.json.
+StationVerdict JudgeStationDir(const std::string& station_dir);
+
+}  // namespace ts
