@@ -89,6 +89,38 @@ Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
   return r;
 }
 
+Status CheckStation(const nlohmann::json& body) {
+  if (!body.contains("station") || !body["station"].is_string() ||
+      !IsStationId(body["station"].get<std::string>()))
+    return Error{"station: must be 1-64 letters, digits, '_' or '-'"};
+  return {};
+}
+
+// The poses a verdict named (station_verdict.h): 1-20 of them, within the stage's reach.
+Result<JobRequest> ParseRetake(const nlohmann::json& body) {
+  if (Status s = CheckKeys(body, "", {"kind", "station", "poses", "notes"}); !s)
+    return Error{s.error()};
+  if (Status s = CheckStation(body); !s) return Error{s.error()};
+  if (Status s = CheckText(body, "notes"); !s) return Error{s.error()};
+  const nlohmann::json& poses = body.value("poses", nlohmann::json());
+  if (!poses.is_array() || poses.empty() || poses.size() > 20)
+    return Error{"poses: must be a list of 1-20 {\"pan_deg\", \"tilt_deg\"}"};
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const std::string path = "poses[" + std::to_string(i) + "].";
+    if (!poses[i].is_object()) return Error{path + ": must be an object"};
+    if (Status s = CheckKeys(poses[i], path, {"pan_deg", "tilt_deg"}); !s) return Error{s.error()};
+    for (Status s : {CheckNumber(poses[i], path, "pan_deg", -360, 360, true),
+                     CheckNumber(poses[i], path, "tilt_deg", -32, 32, true)})
+      if (!s) return Error{s.error()};
+  }
+  JobRequest r;
+  r.kind = JobKind::kRetake;
+  r.station = body["station"].get<std::string>();
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
 Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
   if (Status s = CheckKeys(body, "",
                            {"kind", "station", "field_pan_deg", "field_tilt_deg", "field_pans",
@@ -103,9 +135,7 @@ Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
     if (!s) return Error{s.error()};
   JobRequest r;
   r.kind = JobKind::kCaptureField;
-  if (!body.contains("station") || !body["station"].is_string() ||
-      !IsStationId(body["station"].get<std::string>()))
-    return Error{"station: must be 1-64 letters, digits, '_' or '-'"};
+  if (Status s = CheckStation(body); !s) return Error{s.error()};
   r.station = body["station"].get<std::string>();
   r.fields = body;
   r.fields.erase("kind");
@@ -118,19 +148,20 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   if (!body.is_object()) return Error{"the body must be a JSON object"};
   if (body.value("kind", nlohmann::json()) == "calibrate_rig") return ParseCalibrateRig(body);
   if (body.value("kind", nlohmann::json()) == "capture_field") return ParseCaptureField(body);
+  if (body.value("kind", nlohmann::json()) == "retake") return ParseRetake(body);
   if (Status s = CheckKeys(body, "",
                            {"kind", "station", "line", "instrument_height_m", "operator", "notes",
-                            "gnss", "gcps", "single_row"});
+                            "gnss", "gcps", "single_row", "required_sigma_mgal"});
       !s)
     return Error{s.error()};
   JobRequest r;
   if (!body.contains("kind") || !body["kind"].is_string() ||
       !JobKindFromName(body["kind"].get<std::string>()))
-    return Error{"kind: must be survey, capture, process, calibrate_rig or capture_field"};
+    return Error{"kind: must be survey, capture, process, retake, calibrate_rig or capture_field"};
   r.kind = *JobKindFromName(body["kind"].get<std::string>());
-  if (!body.contains("station") || !body["station"].is_string() ||
-      !IsStationId(body["station"].get<std::string>()))
-    return Error{"station: must be 1-64 letters, digits, '_' or '-'"};
+  if (Status s = CheckStation(body); !s) return Error{s.error()};
+  if (Status s = CheckNumber(body, "", "required_sigma_mgal", 0.0001, 10, false); !s)
+    return Error{s.error()};
   r.station = body["station"].get<std::string>();
   for (const char* key : {"line", "operator", "notes"})
     if (Status s = CheckText(body, key); !s) return Error{s.error()};

@@ -6,7 +6,9 @@
 //    "instrument_height_m": 1.52, "operator": "...", "notes": "...",
 //    "gnss": {"lat_deg": 47.1, "lon_deg": 8.3, "height_m": 512.0, "sigma_m": 0.02},
 //    "gcps": [{"id": "p1", "x": ..., "y": ..., "z": ..., "sigma_m": 0.02}],
-//    "single_row": false}
+//    "single_row": false, "required_sigma_mgal": 0.01}   (what the verdict judges against)
+//   {"kind": "retake", "station": "G-0412", "poses": [{"pan_deg": 90, "tilt_deg": -12.7}]}
+//    (the poses a verdict named, taken again, then the station processed anew)
 //   {"kind": "calibrate_rig", "stations": ["G-0412", "G-0413"]}
 //   {"kind": "capture_field", "station": "field-2026-11", "field_pan_deg": 40,
 //    "field_tilt_deg": 5, "field_pans": 9, "field_tilts": 4}   (a calibration session, named

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "acquisition/capture.h"
+#include "acquisition/retake.h"
 #include "core/log.h"
 #include "devices/aravis_camera.h"
 #include "processing/io/atomic_file.h"
@@ -47,6 +48,13 @@ CaptureOptions CaptureOptionsFor(const Job& job) {
   options.given_plan = MakeFieldPoseGrid(grid);
   options.plan.upper_poses = false;
   return options;
+}
+
+std::vector<StagePose> RetakePoses(const Job& job) {
+  std::vector<StagePose> poses;
+  for (const nlohmann::json& p : job.parameters.value("poses", nlohmann::json::array()))
+    poses.push_back({p.value("pan_deg", 0.0), p.value("tilt_deg", 0.0)});
+  return poses;
 }
 
 // A field session's cameras to start from (the rig's now) beside it, and the command that
@@ -260,7 +268,8 @@ cv::Mat JobRunner::LastFrame(Side side) const {
 void JobRunner::RunRigJob(Running* run) {
   const Job& job = run->job;
   const std::string dir = DirOf(job);
-  const bool survey = job.kind == JobKind::kSurvey;
+  // A retake ends as a survey does: the station processed with every pair.
+  const bool survey = job.kind == JobKind::kSurvey || job.kind == JobKind::kRetake;
   auto fail = [&](const std::string& error) {
     Log().warn("job {} ({} of {}): {}", job.id, JobKindName(job.kind), job.station, error);
     if (quit_ && run->job.state == JobState::kProcessing) return;  // runs again at the next start
@@ -277,7 +286,13 @@ void JobRunner::RunRigJob(Running* run) {
     if (!rig) return fail(rig.error());
     rig->calibration.stage.height_above_mark_m = job.parameters.value("instrument_height_m", 0.0);
     const bool resume = fs::exists(fs::path(dir) / kManifestFileName);
-    if (!resume) {
+    if (job.kind == JobKind::kRetake) {
+      if (!resume) return fail("station " + job.station + " has no capture to retake from");
+      Result<RetakeSummary> aside = SetPairsAsideForRetake(dir, RetakePoses(job));
+      if (!aside) return fail(aside.error());
+      Log().info("retake of {}: {} pairs set aside in {}, {} poses added", job.station,
+                 aside->set_aside, aside->folder, aside->added);
+    } else if (!resume) {
       std::error_code ec;
       fs::create_directories(dir, ec);
       nlohmann::json fields = job.parameters;
@@ -345,6 +360,7 @@ void JobRunner::OnCaptureEvent(Running* run, const CaptureEvent& e) {
     if (run->pairs_done_now++ == 0) run->first_pair = Clock::now();
     p["pan_deg"] = e.record->readback.pan_deg;  // the stage as the pair was taken
     p["tilt_deg"] = e.record->readback.tilt_deg;
+    p["exposure_us"] = e.record->exposure_us;
     run->last_left = *e.left_image;  // shared, never modified (CaptureEvent)
     run->last_right = *e.right_image;
   }

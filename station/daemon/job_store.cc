@@ -8,9 +8,9 @@
 namespace ts::daemon {
 namespace {
 
-constexpr std::array<const char*, 5> kKindNames = {"survey", "capture", "process", "calibrate_rig",
-                                                   "capture_field"};
-static_assert(kKindNames.size() == static_cast<size_t>(JobKind::kCaptureField) + 1,
+constexpr std::array<const char*, 6> kKindNames = {"survey",        "capture",       "process",
+                                                   "calibrate_rig", "capture_field", "retake"};
+static_assert(kKindNames.size() == static_cast<size_t>(JobKind::kRetake) + 1,
               "a name for every JobKind");
 constexpr std::array<const char*, 7> kStateNames = {"queued", "capturing",   "processing", "done",
                                                     "failed", "interrupted", "cancelled"};
@@ -93,7 +93,8 @@ bool IsFinal(JobState s) {
 }
 
 bool UsesRig(JobKind kind) {
-  return kind == JobKind::kSurvey || kind == JobKind::kCapture || kind == JobKind::kCaptureField;
+  return kind == JobKind::kSurvey || kind == JobKind::kCapture || kind == JobKind::kCaptureField ||
+         kind == JobKind::kRetake;
 }
 
 nlohmann::json Job::ToJson() const {

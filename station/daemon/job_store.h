@@ -17,14 +17,15 @@ namespace ts::daemon {
 
 // calibrate_rig: the stage kinematics adjusted on stations' own seams (calibrate_job.h);
 // capture_field: a control field's grid of stage poses, the views `calibrate stereo` takes.
-enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig, kCaptureField };
+// retake: poses of a captured station taken again (acquisition/retake.h), then processed.
+enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig, kCaptureField, kRetake };
 enum class JobState { kQueued, kCapturing, kProcessing, kDone, kFailed, kInterrupted, kCancelled };
 
 const char* JobKindName(JobKind kind);
 std::optional<JobKind> JobKindFromName(const std::string& name);
 const char* JobStateName(JobState state);
 bool IsFinal(JobState state);  // done, failed, interrupted or cancelled
-bool UsesRig(JobKind kind);    // survey, capture and capture_field drive the cameras and stage
+bool UsesRig(JobKind kind);    // survey, capture, capture_field and retake drive the rig
 
 struct Job {
   int64_t id = 0;

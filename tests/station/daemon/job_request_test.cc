@@ -87,5 +87,39 @@ TEST(JobRequest, AFieldSessionTakesItsGridWithinTheStagesReach) {
   }
 }
 
+TEST(JobRequest, ARetakeTakesThePosesAVerdictNamedWithinTheStagesReach) {
+  const Result<JobRequest> r =
+      ParseJobRequest({{"kind", "retake"},
+                       {"station", "G-1"},
+                       {"poses", {{{"pan_deg", 90}, {"tilt_deg", -12.7}}}}});
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->kind, JobKind::kRetake);
+  EXPECT_TRUE(UsesRig(r->kind));
+  EXPECT_EQ(r->fields["poses"][0]["pan_deg"], 90);
+  for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"poses", nlohmann::json::array()},
+           {"poses", {{{"pan_deg", 90}}}},
+           {"poses", {{{"pan_deg", 90}, {"tilt_deg", 40}}}},
+           {"station", "../x"},
+           {"instrument_height_m", 1.5}}) {
+    nlohmann::json body = {
+        {"kind", "retake"}, {"station", "G-1"}, {"poses", {{{"pan_deg", 0}, {"tilt_deg", 0}}}}};
+    body[key] = value;
+    const Result<JobRequest> refused = ParseJobRequest(body);
+    ASSERT_FALSE(refused.ok()) << body.dump();
+    EXPECT_NE(refused.error().find(key), std::string::npos) << refused.error();
+  }
+  // The survey's sigma wanted, checked.
+  nlohmann::json survey = {{"kind", "survey"},
+                           {"station", "S"},
+                           {"instrument_height_m", 1.5},
+                           {"required_sigma_mgal", 0.0}};
+  const Result<JobRequest> zero = ParseJobRequest(survey);
+  ASSERT_FALSE(zero.ok());
+  EXPECT_NE(zero.error().find("required_sigma_mgal"), std::string::npos) << zero.error();
+  survey["required_sigma_mgal"] = 0.01;
+  EXPECT_TRUE(ParseJobRequest(survey).ok());
+}
+
 }  // namespace
 }  // namespace ts::daemon
