@@ -1,0 +1,13 @@
+#pragma once
+// A station's products in one zip to download (issue 25's history): station.json,
+// station_fields.json and every file of products/, under a folder named after the station.
+// Written with GDAL's zip writer (deflate), to a temporary name renamed into place.
+#include <string>
+
+#include "core/result.h"
+
+namespace ts {
+
+Status WriteStationArchive(const std::string& station_dir, const std::string& zip_file);
+
+}  // namespace ts
