@@ -6,20 +6,10 @@
 
 #include "core/log.h"
 #include "core/version.h"
+#include "station/daemon/http_responses.h"
 
 namespace ts::daemon {
 namespace {
-
-constexpr const char* kJson = "application/json";
-
-void SendJson(httplib::Response& res, int status, const nlohmann::json& body) {
-  res.status = status;
-  res.set_content(body.dump(), kJson);
-}
-
-void SendError(httplib::Response& res, int status, const std::string& message) {
-  SendJson(res, status, {{"error", message}});
-}
 
 // "host", "host:8080", "[::1]:8080" -> the host alone.
 std::string HostWithoutPort(const std::string& value) {
@@ -60,6 +50,29 @@ uint64_t DiskFreeBytes(const std::string& dir) {
 
 }  // namespace
 
+void SendJson(httplib::Response& res, int status, const nlohmann::json& body) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+void SendError(httplib::Response& res, int status, const std::string& message) {
+  SendJson(res, status, {{"error", message}});
+}
+
+void SendFile(httplib::Response& res, const std::string& path, const char* content_type) {
+  auto file = std::make_shared<std::ifstream>(path, std::ios::binary);
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || !*file) return SendError(res, 404, "no such file");
+  res.set_content_provider(
+      size, content_type, [file](size_t offset, size_t length, httplib::DataSink& sink) {
+        std::vector<char> buffer(std::min<size_t>(length, 1 << 16));
+        file->seekg(static_cast<std::streamoff>(offset));
+        file->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        return file->gcount() > 0 && sink.write(buffer.data(), static_cast<size_t>(file->gcount()));
+      });
+}
+
 HttpApi::HttpApi(ApiParts parts)
     : parts_(std::move(parts)),
       catalog_(parts_.config->stations_dir),
@@ -78,6 +91,7 @@ HttpApi::HttpApi(ApiParts parts)
                              : httplib::Server::HandlerResponse::Handled;
   });
   Routes();
+  PageRoutes();
 }
 
 HttpApi::~HttpApi() { Stop(); }
@@ -218,15 +232,7 @@ void HttpApi::Product(const httplib::Request& req, httplib::Response& res) {
   const std::string name = req.matches[2];
   const std::optional<std::string> path = catalog_.ProductPath(req.matches[1], name);
   if (!path) return SendError(res, 404, "no such product");
-  auto file = std::make_shared<std::ifstream>(*path, std::ios::binary);
-  const auto size = std::filesystem::file_size(*path);
-  res.set_content_provider(
-      size, ContentTypeOf(name), [file](size_t offset, size_t length, httplib::DataSink& sink) {
-        std::vector<char> buffer(std::min<size_t>(length, 1 << 16));
-        file->seekg(static_cast<std::streamoff>(offset));
-        file->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        return file->gcount() > 0 && sink.write(buffer.data(), static_cast<size_t>(file->gcount()));
-      });
+  SendFile(res, *path, ContentTypeOf(name));
 }
 
 void HttpApi::StageCommand(const std::string& command, const httplib::Request& req,

@@ -58,6 +58,13 @@ class HttpApi {
   void StageCommand(const std::string& command, const httplib::Request& req,
                     httplib::Response& res);
   void Product(const httplib::Request& req, httplib::Response& res);
+  // The operator's page and what it needs beyond the API above (http_api_page.cc): its files,
+  // pair thumbnails, a station's zip, the campaign table, the comparison of two epochs.
+  void PageRoutes();
+  void PairThumbnail(const httplib::Request& req, httplib::Response& res);
+  void StationZip(const httplib::Request& req, httplib::Response& res);
+  void CampaignTable(httplib::Response& res);
+  void PostDiff(const httplib::Request& req, httplib::Response& res);
 
   ApiParts parts_;
   StationCatalog catalog_;

@@ -18,6 +18,7 @@
 #include "station/daemon/headless.h"
 #include "tests/common/daemon_process.h"
 #include "tests/common/temp_dir.h"
+#include "tests/system/sim_daemon_fixture.h"
 
 namespace ts {
 namespace {
@@ -25,81 +26,10 @@ namespace {
 using namespace std::chrono_literals;
 using testing::DaemonProcess;
 using testing::Finished;
+using testing::kSurvey;
 
-const nlohmann::json kSurvey = {{"kind", "survey"},   {"station", "S1"},
-                                {"line", "L7"},       {"instrument_height_m", 1.52},
-                                {"operator", "test"}, {"single_row", true}};
-
-class DaemonTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    sim::SimStationOptions options;
-    options.scene = "hills";
-    options.seed = 2;
-    station_ = *sim::BuildSimStation(options);
-  }
-
-  void Serve() {
-    sim::SimServeOptions o;
-    o.stage_port = kStagePort;
-    o.stage_pty = false;
-    auto server = sim::SimServer::Start(station_, o);
-    ASSERT_TRUE(server.ok()) << server.error();
-    server_ = std::move(*server);
-  }
-
-  // The simulated rig with its true calibration (matching, not calibration, is not tested here).
-  std::string WriteRig() {
-    const std::string cal = dir_ / "calibration.yaml", rig = dir_ / "rig.yaml";
-    EXPECT_TRUE(SaveCalibrationYaml(station_->rig.truth, cal).ok());
-    std::ofstream(rig) << "schema_version: 1\nname: simulated-rig\ndevices:\n"
-                       << "  left_camera: {id: TS-SIM-L}\n  right_camera: {id: TS-SIM-R}\n"
-                       << "  stage: {transport: tcp, host: 127.0.0.1, port: " << kStagePort
-                       << "}\ncalibration_file: calibration.yaml\n";
-    return rig;
-  }
-
-  std::unique_ptr<DaemonProcess> StartDaemon(const std::string& extra_yaml = "") {
-    auto d =
-        std::make_unique<DaemonProcess>(dir_.path().string(), kApiPort, WriteRig(), extra_yaml);
-    EXPECT_TRUE(d->Start()) << d->log();
-    return d;
-  }
-
-  static bool WaitReady(const DaemonProcess& d) {
-    for (int i = 0; i < 100; ++i) {
-      const nlohmann::json s = d.GetJson("/status");
-      if (s.is_object() && s["ready"] == true) return true;
-      std::this_thread::sleep_for(100ms);
-    }
-    return false;
-  }
-
-  // Starts a survey and returns its job id (0 when refused).
-  static int64_t StartSurvey(const DaemonProcess& d, nlohmann::json body = kSurvey) {
-    auto r = d.Post("/jobs", body);
-    if (!r || r->status != 201) return 0;
-    return nlohmann::json::parse(r->body)["id"].get<int64_t>();
-  }
-
-  static int PairsDone(const DaemonProcess& d) {
-    const nlohmann::json job = d.GetJson("/status")["current_job"];
-    return job.is_object() ? job.value("pairs_done", 0) : 0;
-  }
-
-  // Waits (up to 30 s) until the running job has taken `pairs`; the pairs it has then.
-  static int WaitForPairs(const DaemonProcess& d, int pairs) {
-    for (int i = 0; i < 600 && PairsDone(d) < pairs; ++i) std::this_thread::sleep_for(50ms);
-    return PairsDone(d);
-  }
-
-  static constexpr int kStagePort = 15320;
-  static constexpr int kApiPort = 18321;
-  static std::shared_ptr<const sim::SimStation> station_;
-  testing::TempDir dir_;
-  std::unique_ptr<sim::SimServer> server_;
-};
-std::shared_ptr<const sim::SimStation> DaemonTest::station_;
+// The daemon driving the simulated station (sim_daemon_fixture.h).
+class DaemonTest : public testing::SimDaemonTest {};
 
 // Server-sent events read on a thread of their own until `stop` is set.
 class EventReader {
@@ -227,6 +157,28 @@ TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) 
   const Result<StationManifest> m =
       ValidateStation(d->stations_dir() + "/S1", {.require_complete = true});
   EXPECT_TRUE(m.ok()) << m.error();
+  // A retake of one pose: its old images kept aside, the pair taken again, the station
+  // processed anew and still valid.
+  const nlohmann::json pose = station["manifest"]["capture_plan"][2];
+  const std::string before = station["manifest"]["pairs"][2]["captured_utc"];
+  auto retake = d->Post("/jobs", {{"kind", "retake"}, {"station", "S1"}, {"poses", {pose}}});
+  ASSERT_EQ(retake->status, 201) << retake->body;
+  const nlohmann::json retaken = d->WaitForJob(nlohmann::json::parse(retake->body)["id"], Finished);
+  ASSERT_EQ(retaken["state"], "done") << retaken.dump();
+  EXPECT_EQ(retaken["summary"]["captured_now"], 1) << retaken.dump();
+  int kept = 0;
+  for (const auto& e :
+       std::filesystem::recursive_directory_iterator(d->stations_dir() + "/S1/retaken"))
+    kept += e.is_regular_file();
+  EXPECT_EQ(kept, 2);
+  const Result<StationManifest> after_retake =
+      ValidateStation(d->stations_dir() + "/S1", {.require_complete = true});
+  ASSERT_TRUE(after_retake.ok()) << after_retake.error();
+  for (const PairRecord& p : after_retake->pairs) {
+    if (p.index == 2) {
+      EXPECT_GT(p.captured_utc, before);
+    }
+  }
   // The stage calibrated on the station's own seams, as a job (a child process).
   EXPECT_EQ(d->Post("/jobs", {{"kind", "calibrate_rig"}, {"stations", {"S1", "S9"}}})->status, 404);
   auto calibrate = d->Post("/jobs", {{"kind", "calibrate_rig"}, {"stations", {"S1"}}});
@@ -255,7 +207,8 @@ TEST_F(DaemonTest, EveryRouteThatMovesOrWritesNeedsTheTokenAndForeignHostsAreRef
       {"/api/v1/jobs/1/resume", ""},
       {"/api/v1/stage/home", ""},
       {"/api/v1/stage/move", R"({"pan_deg": 10, "tilt_deg": 0})"},
-      {"/api/v1/stage/stop", ""}};
+      {"/api/v1/stage/stop", ""},
+      {"/api/v1/diffs", R"({"before": "S1", "after": "S2"})"}};
   int failures = 0;
   for (const auto& [path, body] : writes)
     for (const httplib::Headers& headers :
