@@ -4,14 +4,15 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "processing/geometry/capture_plan.h"
 #include "processing/io/json_fields.h"
 #include "processing/io/station_manifest.h"
 
 namespace ts {
 namespace {
 
-// A sector with at least this share of its cells holding data was seen: a retake adds little.
-constexpr double kCoveredShare = 0.95;
+// A sector with at least this share of its cells seen: a retake adds little.
+constexpr double kSeenShare = 0.95;
 
 double Number(const nlohmann::json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
@@ -99,7 +100,7 @@ nlohmann::json StationVerdict::ToJson() const {
 }
 
 StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePose>& plan,
-                            double required_sigma_mgal) {
+                            double required_sigma_mgal, double nearest_view_m) {
   StationVerdict v;
   if (!tc.is_object()) return {"not processed", "not processed yet", {}};
   const nlohmann::json rings = tc.value("rings", nlohmann::json::array());
@@ -129,20 +130,27 @@ StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePos
                 required_sigma_mgal);
   v.text = text;
   if (!w.sector) return {"as good as it gets", v.text, {}};
-  const double bearing = Number(*w.sector, "bearing_deg"), coverage = Number(*w.sector, "coverage");
+  const double bearing = Number(*w.sector, "bearing_deg"), seen = Number(*w.sector, "seen");
   const std::string ring = RingName(*w.ring);
-  if (coverage >= kCoveredShare) {
+  if (Number(*w.ring, "outer_m") <= nearest_view_m) {
+    std::snprintf(text, sizeof text,
+                  ": most of it is the %s toward %.0f°, nearer than any view reaches (%.1f m): "
+                  "measure the ground's fall around the mark by hand",
+                  ring.c_str(), bearing, nearest_view_m);
+    return {"as good as it gets", v.text + text, {}};
+  }
+  if (seen >= kSeenShare) {
     std::snprintf(text, sizeof text,
                   ": most of it is the %s toward %.0f°, which was seen (%.0f %% of its cells): "
                   "the ground's own roughness, which a retake would not lower",
-                  ring.c_str(), bearing, 100 * coverage);
+                  ring.c_str(), bearing, 100 * seen);
     return {"as good as it gets", v.text + text, {}};
   }
   v.verdict = "retake";
   v.retake = PosesToward(plan, bearing, Number(*w.ring, "inner_m") >= 20.0);
   std::snprintf(text, sizeof text,
-                ": the %s is %.0f %% covered, toward %.0f° only %.0f %%; retake %s", ring.c_str(),
-                100 * Number(*w.ring, "coverage"), bearing, 100 * coverage,
+                ": the %s is %.0f %% covered, toward %.0f° only %.0f %% seen; retake %s",
+                ring.c_str(), 100 * Number(*w.ring, "coverage"), bearing, 100 * seen,
                 PosesText(v.retake, plan).c_str());
   v.text += text;
   return v;
@@ -156,9 +164,15 @@ StationVerdict JudgeStationDir(const std::string& dir) {
       ReadJsonFileOrNull((fs::path(dir) / "products/terrain_correction.json").string());
   const Result<StationManifest> manifest = LoadStationManifest(dir);
   const std::vector<StagePose> plan = manifest ? manifest->plan : std::vector<StagePose>();
+  double nearest_view_m = 0.0;
+  if (manifest && !plan.empty()) {
+    double lowest = plan.front().tilt_deg;
+    for (const StagePose& p : plan) lowest = std::min(lowest, p.tilt_deg);
+    nearest_view_m = NearestGroundRangeM(manifest->calibration, lowest);
+  }
   double required = Number(fields, "required_sigma_mgal");
   if (!(required > 0)) required = kDefaultRequiredSigmaMgal;
-  return JudgeStation(tc, plan, required);
+  return JudgeStation(tc, plan, required, nearest_view_m);
 }
 
 }  // namespace ts

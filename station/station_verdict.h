@@ -5,8 +5,9 @@
 //   good       sigma within what was asked;
 //   retake     sigma beyond it, and most of it from a direction where the ring lacks data:
 //              the poses that look there, to take again (a passer-by, a vehicle, a dark pair);
-//   enough as it can be  sigma beyond it, but the ground that makes it was seen: the terrain's
-//              own roughness, which no retake lowers;
+//   as good as it gets  sigma beyond it, but from ground a retake cannot help: seen already
+//              (the terrain's own roughness), or nearer than any view reaches (under the
+//              rig: measured by hand);
 //   unusable   the correction has no value (too little ground seen): the poses facing the
 //              emptiest direction.
 // The direction is a bearing in the station frame L, where it equals the stage's pan.
@@ -28,11 +29,14 @@ struct StationVerdict {
   nlohmann::json ToJson() const;
 };
 
-// tc: terrain_correction.json (null: not processed); plan: the capture plan's poses.
+// tc: terrain_correction.json (null: not processed); plan: the capture plan's poses;
+// nearest_view_m: the ground range the lowest views' bottom edge reaches (nearer ground no
+// pose sees).
 StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePose>& plan,
-                            double required_sigma_mgal);
+                            double required_sigma_mgal, double nearest_view_m = 0.0);
 
-// The same from a station directory: station.json's plan, station_fields.json's
+// The same from a station directory: station.json's plan and calibration,
+// station_fields.json's
 // required_sigma_mgal (else the default), products/terrain_correction.json.
 StationVerdict JudgeStationDir(const std::string& station_dir);
 

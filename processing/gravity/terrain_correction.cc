@@ -106,7 +106,7 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
   std::vector<int> ring_cells(kRings, 0), ring_data(kRings, 0), ring_seen(kRings, 0);
   std::vector<double> ring_variance(kRings, 0.0), ring_unseen(kRings, 0.0);
   struct SectorSums {
-    int cells = 0, data = 0;
+    int cells = 0, data = 0, seen = 0;
     double variance = 0.0, unseen = 0.0;
   };
   std::vector<std::array<SectorSums, kSectors>> sector(kRings);
@@ -127,6 +127,7 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
           ground ? (*ground)[static_cast<size_t>(r) * dem.cols + c] : CellGround::kSeen;
       ring_data[ring] += kind != CellGround::kEstimated;
       in_sector.data += kind != CellGround::kEstimated;
+      in_sector.seen += kind == CellGround::kSeen;
       ring_seen[ring] += kind == CellGround::kSeen;
       double value = 0.0;
       const bool refine = d - half * M_SQRT2 < o.refine_radius_m;
@@ -175,8 +176,8 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
     ring.sigma_mgal = std::sqrt(ring_variance[k] + ring_unseen[k] * ring_unseen[k]);
     for (int j = 0; j < kSectors; ++j) {
       const SectorSums& in = sector[k][j];
-      ring.sectors.push_back({j * 360.0 / kSectors,
-                              in.cells ? static_cast<double>(in.data) / in.cells : 0.0,
+      auto share = [&](int n) { return in.cells ? static_cast<double>(n) / in.cells : 0.0; };
+      ring.sectors.push_back({j * 360.0 / kSectors, share(in.data), share(in.seen),
                               std::sqrt(in.variance + in.unseen * in.unseen)});
     }
     if (ring_cells[k] > 0 && ring.coverage < o.min_ring_coverage) {

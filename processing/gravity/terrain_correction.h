@@ -81,6 +81,7 @@ struct TerrainCorrectionOptions {
 struct SectorContribution {
   double bearing_deg = 0.0;  // centre, clockwise from the frame's +Y (pan 0 in frame L)
   double coverage = 0.0;     // share of its cells with data
+  double seen = 0.0;         // share of its cells seen (a ground point in them)
   double sigma_mgal = 0.0;   // its seen and unseen parts together, as the ring's
 };
 

@@ -11,8 +11,10 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
   for (const RingContribution& r : tc.rings) {
     nlohmann::json sectors = nlohmann::json::array();
     for (const SectorContribution& s : r.sectors)
-      sectors.push_back(
-          {{"bearing_deg", s.bearing_deg}, {"coverage", s.coverage}, {"sigma_mgal", s.sigma_mgal}});
+      sectors.push_back({{"bearing_deg", s.bearing_deg},
+                         {"coverage", s.coverage},
+                         {"seen", s.seen},
+                         {"sigma_mgal", s.sigma_mgal}});
     rings.push_back({{"inner_m", r.inner_m},
                      {"outer_m", std::isinf(r.outer_m) ? nlohmann::json("end of DEM")
                                                        : nlohmann::json(r.outer_m)},

@@ -34,11 +34,12 @@ nlohmann::json ProcessSummaryJson(const nlohmann::json& report) {
   return s;
 }
 
-// A rig job's capture: the panorama (a survey's single row when asked), or a control
-// field's grid of stage poses.
+// A rig job's capture: the panorama (a survey's single row when asked), exactly the poses a
+// retake names, or a control field's grid of stage poses.
 CaptureOptions CaptureOptionsFor(const Job& job) {
   CaptureOptions options;
-  options.plan.upper_poses = !job.parameters.value("single_row", false);
+  options.plan.upper_poses =
+      !job.parameters.value("single_row", false) && job.kind != JobKind::kRetake;
   if (job.kind != JobKind::kCaptureField) return options;
   FieldPoseGrid grid;
   grid.centre_pan_deg = job.parameters.value("field_pan_deg", 0.0);
@@ -165,7 +166,9 @@ std::variant<Job, JobError> JobRunner::Submit(const JobRequest& request,
     events_->Publish("job", created->ToJson());
     return *created;
   }
-  if (station_exists)
+  if (request.kind == JobKind::kRetake && !station_exists)
+    return JobError{404, "no station '" + request.station + "' to retake poses of"};
+  if (station_exists && request.kind != JobKind::kRetake)
     return JobError{409, "station '" + request.station +
                              "' exists already: choose another id, or resume the job that "
                              "captured it"};

@@ -15,6 +15,7 @@ const char* WebContentType(std::string_view path) {
   };
   if (ends(".js")) return "text/javascript; charset=utf-8";
   if (ends(".css")) return "text/css; charset=utf-8";
+  if (ends(".svg")) return "image/svg+xml";
   return "text/html; charset=utf-8";
 }
 

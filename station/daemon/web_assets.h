@@ -15,7 +15,7 @@ extern const std::vector<WebFile> kWebFiles;
 
 // The file served at `path` ("/" is /index.html); nullptr when there is none.
 const WebFile* FindWebFile(std::string_view path);
-// By extension: text/html, text/javascript, text/css (utf-8).
+// By extension: text/html, text/javascript, text/css (utf-8), image/svg+xml.
 const char* WebContentType(std::string_view path);
 
 }  // namespace ts::daemon

@@ -9,7 +9,8 @@
 //            the next station offered (S2, the fields kept), surveyed; both compared (DoD and
 //            subsidence table against change.json); the zip and the campaign table fetched.
 //   start    token, station R1, start, return once two poses of the ring are done.
-//   resume   after the daemon restarted: R1 offered for resume, resumed, its result checked.
+//   resume   after the daemon restarted, in a new browser: the token, R1 offered for resume,
+//            resumed, its result checked.
 // Every request the page makes must succeed (no failed request, no 4xx/5xx, no page error);
 // screenshots go to the artifacts directory. Exit 0 when every check held; else the failures.
 import fs from 'node:fs';
@@ -151,7 +152,7 @@ async function start() {
 }
 
 async function resume() {
-  await page.goto(args.url, {waitUntil: 'load'});  // the token kept from the run before
+  await enterToken();  // a browser of its own: it asks for the token again
   await page.waitForSelector('#interrupted-section:not([hidden])', {timeout: 30000});
   await screenshot('interrupted');
   const button = await page.waitForSelector('#interrupted button');

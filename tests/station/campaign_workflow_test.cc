@@ -1,6 +1,7 @@
 // The campaign's reprocessing workflow (workflow/Snakefile) run by Debian's snakemake on three
-// simulated stations at a new density: every station processed at it, the table's rows equal
-// to each station's own report, the GeoPackage opened with GDAL.
+// simulated stations (one rig, three epochs of a site), captured with the rig's design values
+// and reprocessed with its calibration at a new density: every station processed with both,
+// the table's rows equal to each station's own report, the GeoPackage opened with GDAL.
 #include <gtest/gtest.h>
 #include <ogrsf_frmts.h>
 
@@ -49,24 +50,26 @@ std::vector<std::map<std::string, std::string>> ReadCsv(const std::string& file)
   return rows;
 }
 
-TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsAtANewDensityAndBuildsTheTable) {
+TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsWithANewCalibrationAndDensity) {
   testing::TempDir temp;
   const fs::path dir = temp.path();
   const std::vector<std::string> ids = {"W1", "W2", "W3"};
   for (size_t i = 0; i < ids.size(); ++i) {
     const std::string station = (dir / "stations" / ids[i]).string();
-    ASSERT_EQ(RunCommand(std::string(TS_TOPOSTATION_EXE) + " sim render --single-row --seed " +
-                         std::to_string(i + 1) + " --scene " + (i == 1 ? "slope" : "hills") +
-                         " --supersampling 1 --out " + station + " --truth " + station +
-                         "-truth > /dev/null"),
+    ASSERT_EQ(RunCommand(std::string(TS_TOPOSTATION_EXE) +
+                         " sim render --scene hills --seed 1 --single-row --supersampling 1" +
+                         " --epoch " + std::to_string(i + 1) + " --out " + station + " --truth " +
+                         station + "-truth > /dev/null"),
               0);
   }
   const std::string out = (dir / "out").string();
+  const std::string calibration = (dir / "stations/W1-truth/calibration.yaml").string();
   const std::string log = (dir / "snakemake.log").string();
-  const int rc = RunCommand(
-      "snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
-      (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
-      " out=" + out + " density=2.2 topostation=" + TS_TOPOSTATION_EXE + " > " + log + " 2>&1");
+  const int rc =
+      RunCommand("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
+                 (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
+                 " out=" + out + " density=2.2 calibration=" + calibration +
+                 " topostation=" + TS_TOPOSTATION_EXE + " > " + log + " 2>&1");
   std::ifstream snake_log(log);
   ASSERT_EQ(rc, 0) << std::string((std::istreambuf_iterator<char>(snake_log)), {});
 
@@ -77,7 +80,11 @@ TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsAtANewDensityAndBuildsTh
     const nlohmann::json report = ReadJsonFileOrNull((station / "products/report.json").string());
     const nlohmann::json tc = ReadJsonFileOrNull(out + "/" + ids[i] + "/terrain_correction.json");
     ASSERT_TRUE(report.is_object() && tc.is_object()) << ids[i];
-    EXPECT_EQ(rows[i].at("station"), ids[i]);
+    const nlohmann::json manifest = ReadJsonFileOrNull((station / "station.json").string());
+    EXPECT_EQ(rows[i].at("station"), manifest["station_id"]);
+    ASSERT_TRUE(report["terrain_correction_mgal"].is_number()) << report.dump();
+    EXPECT_NE(rows[i].at("calibration").find(calibration), std::string::npos)
+        << rows[i].at("calibration");
     EXPECT_EQ(tc["density_g_cm3"], 2.2);
     EXPECT_EQ(report["options"]["terrain_correction"]["density_kg_m3"], 2200.0);
     EXPECT_DOUBLE_EQ(std::stod(rows[i].at("density_g_cm3")), 2.2);
@@ -98,11 +105,12 @@ TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsAtANewDensityAndBuildsTh
   EXPECT_EQ(points->GetFeatureCount(), 3);
 
   // Run again: nothing to do, every output is newer than its inputs.
-  EXPECT_EQ(RunCommand("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
-                       (dir / "work").string() +
-                       " --config stations=" + (dir / "stations").string() + " out=" + out +
-                       " density=2.2 topostation=" + TS_TOPOSTATION_EXE + " -n > " + log + " 2>&1"),
-            0);
+  EXPECT_EQ(
+      RunCommand("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
+                 (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
+                 " out=" + out + " density=2.2 calibration=" + calibration +
+                 " topostation=" + TS_TOPOSTATION_EXE + " -n > " + log + " 2>&1"),
+      0);
   std::ifstream again(log);
   const std::string text((std::istreambuf_iterator<char>(again)), {});
   EXPECT_NE(text.find("Nothing to be done"), std::string::npos) << text;

@@ -26,6 +26,7 @@ nlohmann::json Tc(double sigma, int ring, int sector, double coverage, double se
       const bool odd = r == ring && k == sector;
       sectors.push_back({{"bearing_deg", 30.0 * k},
                          {"coverage", odd ? coverage : 1.0},
+                         {"seen", odd ? coverage : 1.0},
                          {"sigma_mgal", odd ? sector_sigma : 0.0005}});
     }
     rings.push_back({{"inner_m", edges[r]},
@@ -49,7 +50,8 @@ TEST(StationVerdict, RetakesTheMainRowPoseTowardTheThinSectorOfANearRing) {
   ASSERT_EQ(v.retake.size(), 1u);
   EXPECT_EQ(v.retake[0].pan_deg, 90.0);
   EXPECT_EQ(v.retake[0].tilt_deg, -12.0);
-  EXPECT_NE(v.text.find("2-10 m ring is 94 % covered, toward 90° only 30 %"), std::string::npos)
+  EXPECT_NE(v.text.find("2-10 m ring is 94 % covered, toward 90° only 30 % seen"),
+            std::string::npos)
       << v.text;
   EXPECT_NE(v.text.find("retake the pose at 90°"), std::string::npos) << v.text;
 }
@@ -63,12 +65,23 @@ TEST(StationVerdict, AFarRingIsRetakenWithTheUpperPoseToo) {
       << v.text;
 }
 
-// Between two poses' pans the nearer decides; 15 deg off both takes both.
 TEST(StationVerdict, ASeenSectorNeedsNoRetake) {
   const StationVerdict v = JudgeStation(Tc(0.02, 2, 5, 1.0, 0.019), Plan(), 0.01);
   EXPECT_EQ(v.verdict, "as good as it gets");
   EXPECT_TRUE(v.retake.empty());
   EXPECT_NE(v.text.find("would not lower"), std::string::npos) << v.text;
+}
+
+// Ground under the rig no pose sees: a retake cannot help, a tape can.
+TEST(StationVerdict, GroundNearerThanAnyViewIsMeasuredByHandNotRetaken) {
+  const StationVerdict v = JudgeStation(Tc(0.03, 0, 2, 0.0, 0.029), Plan(), 0.01, 2.4);
+  EXPECT_EQ(v.verdict, "as good as it gets");
+  EXPECT_TRUE(v.retake.empty());
+  EXPECT_NE(v.text.find("0-2 m ring toward 60°, nearer than any view reaches (2.4 m)"),
+            std::string::npos)
+      << v.text;
+  // The same ring within reach of the views: retaken.
+  EXPECT_EQ(JudgeStation(Tc(0.03, 0, 2, 0.0, 0.029), Plan(), 0.01, 1.5).verdict, "retake");
 }
 
 TEST(StationVerdict, UnusableNamesTheLeastSeenDirection) {

@@ -202,6 +202,8 @@ TEST(TerrainCorrection, UnseenGroundIsOneUnknownSeenCellsAreIndependent) {
   double rings = 0.0;
   for (const RingContribution& r : b.rings) rings += r.sigma_unseen_mgal;
   EXPECT_NEAR(rings, b.sigma_unseen_mgal, 1e-12);
+  EXPECT_EQ(b.rings[1].sectors[0].seen, 0.0);  // data, but nobody saw it
+  EXPECT_EQ(b.rings[1].sectors[0].coverage, 1.0);
   // Estimated cells count as without data in the rings' coverage.
   std::vector<CellGround> estimated(dem.values.size(), CellGround::kEstimated);
   const TerrainCorrection c = ComputeTerrainCorrection(dem, &std_dev, mark, {}, &estimated);
@@ -231,6 +233,7 @@ TEST(TerrainCorrection, SectorsNameTheDirectionOfAThinRing) {
     const SectorContribution& s = ring.sectors[k];
     EXPECT_DOUBLE_EQ(s.bearing_deg, 30.0 * k);
     EXPECT_EQ(s.coverage, k == 3 ? 0.0 : 1.0) << "sector " << k;
+    EXPECT_EQ(s.seen, s.coverage) << "sector " << k;  // no ground kinds given: data is seen
     variance += s.sigma_mgal * s.sigma_mgal;
     if (k != 2) {
       EXPECT_LT(s.sigma_mgal, 0.5 * ring.sectors[2].sigma_mgal) << "sector " << k;
