@@ -50,6 +50,44 @@ std::string CsvCell(const nlohmann::ordered_json& v) {
   return quoted + "\"";
 }
 
+// EPSG:4326, longitude first.
+OGRSpatialReference Wgs84() {
+  OGRSpatialReference wgs84;
+  wgs84.importFromEPSG(4326);
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  return wgs84;
+}
+
+// From the DEM's CRS to EPSG:4326 when the DEM is in one (georeferenced with GCPs); nullptr
+// for a DEM in the station frame L.
+std::unique_ptr<OGRCoordinateTransformation> DemToWgs84(const Raster& dem,
+                                                        const OGRSpatialReference& wgs84) {
+  if (dem.crs_wkt.empty()) return nullptr;
+  OGRSpatialReference crs;
+  if (crs.importFromWkt(dem.crs_wkt.c_str()) != OGRERR_NONE) return nullptr;
+  crs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  return std::unique_ptr<OGRCoordinateTransformation>(
+      OGRCreateCoordinateTransformation(&crs, &wgs84));
+}
+
+// The station mark of a georeferenced DEM (terrain_correction.json's, in the DEM's CRS) as
+// latitude, longitude and height; false when the DEM is in L or the mark unknown.
+bool MarkFromGcps(const std::string& dir, const nlohmann::json& tc, nlohmann::ordered_json* row) {
+  const nlohmann::json mark = Field(tc, "station_mark");
+  if (!mark.is_array() || mark.size() != 3 || !mark[0].is_number()) return false;
+  const Result<Raster> dem = ReadGeoTiff(dir + "/products/dem.tif");
+  if (!dem) return false;
+  const OGRSpatialReference wgs84 = Wgs84();
+  const auto to_wgs84 = DemToWgs84(*dem, wgs84);
+  double x = mark[0].get<double>(), y = mark[1].get<double>();
+  if (!to_wgs84 || !to_wgs84->Transform(1, &x, &y)) return false;
+  (*row)["lat_deg"] = y;
+  (*row)["lon_deg"] = x;
+  (*row)["height_m"] = mark[2];
+  (*row)["position_source"] = "GCPs";
+  return true;
+}
+
 }  // namespace
 
 Result<std::vector<std::string>> FindStations(const std::vector<std::string>& dirs) {
@@ -94,6 +132,7 @@ Result<nlohmann::ordered_json> CampaignRow(const std::string& dir) {
   row["lon_deg"] = Field(gnss, "lon_deg");
   row["height_m"] = Field(gnss, "height_m");
   row["position_source"] = gnss.is_object() ? nlohmann::json("GNSS") : nlohmann::json();
+  if (!gnss.is_object()) MarkFromGcps(dir, tc, &row);
   row["density_g_cm3"] = Field(tc, "density_g_cm3");
   row["terrain_correction_mgal"] = Field(report, "terrain_correction_mgal");
   row["terrain_correction_sigma_mgal"] = Field(report, "terrain_correction_sigma_mgal");
@@ -141,12 +180,8 @@ struct DatasetCloser {
 std::unique_ptr<OGRPolygon> FootprintWgs84(const std::string& dir,
                                            const OGRSpatialReference& wgs84) {
   const Result<Raster> dem = ReadGeoTiff(dir + "/products/dem.tif");
-  if (!dem || dem->crs_wkt.empty()) return nullptr;
-  OGRSpatialReference crs;
-  if (crs.importFromWkt(dem->crs_wkt.c_str()) != OGRERR_NONE) return nullptr;
-  crs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> to_wgs84(
-      OGRCreateCoordinateTransformation(&crs, &wgs84));
+  if (!dem) return nullptr;
+  const auto to_wgs84 = DemToWgs84(*dem, wgs84);
   if (!to_wgs84) return nullptr;
   const double x0 = dem->min_x_m, y1 = dem->max_y_m;
   const double x1 = x0 + dem->cols * dem->cell_m, y0 = y1 - dem->rows * dem->cell_m;
@@ -172,9 +207,7 @@ Status WriteCampaignGeoPackage(const std::vector<nlohmann::ordered_json>& rows,
   std::unique_ptr<GDALDataset, DatasetCloser> ds(
       driver->Create(file.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
   if (!ds) return Error{file + ": cannot create the GeoPackage"};
-  OGRSpatialReference wgs84;
-  wgs84.importFromEPSG(4326);
-  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  OGRSpatialReference wgs84 = Wgs84();
   OGRLayer* points = ds->CreateLayer("stations", &wgs84, wkbPoint, nullptr);
   OGRLayer* footprints = ds->CreateLayer("dem_footprints", &wgs84, wkbPolygon, nullptr);
   if (!points || !footprints) return Error{file + ": cannot create its layers"};

@@ -63,7 +63,7 @@ class HttpApi {
   void PageRoutes();
   void PairThumbnail(const httplib::Request& req, httplib::Response& res);
   void StationZip(const httplib::Request& req, httplib::Response& res);
-  void CampaignTable(httplib::Response& res);
+  void CampaignTable(bool geopackage, httplib::Response& res);
   void PostDiff(const httplib::Request& req, httplib::Response& res);
 
   ApiParts parts_;

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "station/campaign.h"
 #include "station/commands.h"
@@ -44,8 +45,10 @@ void HttpApi::PageRoutes() {
   server_.Get(
       api + R"(/stations/([^/]+)/station\.zip)",
       [this](const httplib::Request& req, httplib::Response& res) { StationZip(req, res); });
-  server_.Get(api + "/campaign.csv",
-              [this](const httplib::Request&, httplib::Response& res) { CampaignTable(res); });
+  server_.Get(api + R"(/campaign\.(csv|gpkg))",
+              [this](const httplib::Request& req, httplib::Response& res) {
+                CampaignTable(req.matches[1] == "gpkg", res);
+              });
   server_.Post(api + "/diffs",
                [this](const httplib::Request& req, httplib::Response& res) { PostDiff(req, res); });
   server_.Get(api + "/diffs/(" + kDiffId +
@@ -88,16 +91,34 @@ void HttpApi::StationZip(const httplib::Request& req, httplib::Response& res) {
   SendFile(res, zip, "application/zip");
 }
 
-void HttpApi::CampaignTable(httplib::Response& res) {
+void HttpApi::CampaignTable(bool geopackage, httplib::Response& res) {
   const Result<std::vector<std::string>> stations = FindStations({parts_.config->stations_dir});
   if (!stations) return SendError(res, 404, stations.error());
   std::vector<nlohmann::ordered_json> rows;
+  std::vector<std::string> dirs;
   for (const std::string& dir : *stations) {
     Result<nlohmann::ordered_json> row = CampaignRow(dir);
-    if (row) rows.push_back(*row);  // a station being written may not read yet
+    if (!row) continue;  // a station being written may not read yet
+    rows.push_back(*row);
+    dirs.push_back(dir);
   }
-  res.set_header("Content-Disposition", "attachment; filename=\"campaign.csv\"");
-  res.set_content(CampaignCsv(rows), "text/csv; charset=utf-8");
+  if (!geopackage) {
+    res.set_header("Content-Disposition", "attachment; filename=\"campaign.csv\"");
+    return res.set_content(CampaignCsv(rows), "text/csv; charset=utf-8");
+  }
+  // Each request its own file: two downloads at once must not write one.
+  const fs::path folder = fs::path(parts_.config->state_dir) / "downloads";
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  const std::string file =
+      (folder /
+       ("campaign-" + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id())) +
+        ".gpkg"))
+          .string();
+  if (Status s = WriteCampaignGeoPackage(rows, dirs, file); !s)
+    return SendError(res, 500, s.error());
+  res.set_header("Content-Disposition", "attachment; filename=\"campaign.gpkg\"");
+  SendFile(res, file, "application/geopackage+sqlite3");
 }
 
 // {"before": STATION, "after": STATION}: topostation diff of the two into STATE/diffs.

@@ -140,6 +140,12 @@ async function survey() {
   const csv = await page.evaluate(async () =>
     (await fetch(document.querySelector('#campaign-link').href)).text());
   check(/\nS[12],L7,/.test(csv) && csv.trim().split('\n').length === 3, `campaign csv: ${csv}`);
+  const gpkg = await page.evaluate(async () => {
+    const href = document.querySelector('#campaign-gpkg-link').href;
+    const bytes = new Uint8Array(await (await fetch(href)).arrayBuffer());
+    return String.fromCharCode(...bytes.slice(0, 15));
+  });
+  check(gpkg === 'SQLite format 3', `campaign GeoPackage starts with '${gpkg}'`);
 }
 
 async function start() {

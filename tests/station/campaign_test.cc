@@ -42,6 +42,7 @@ void MakeStation(const std::string& dir, const std::string& id, double tc, bool 
   WriteJson(dir + "/products/terrain_correction.json",
             {{"density_g_cm3", 2.67},
              {"verdict", "usable"},
+             {"station_mark", {465030.0, 5260030.0, 412.5}},  // in the DEM's frame
              {"sigma_mgal", 0.004},
              {"rings",
               {{{"inner_m", 0.0}, {"outer_m", 2.0}, {"mgal", 0.001}},
@@ -77,6 +78,12 @@ TEST(Campaign, OneRowPerStationFromItsOwnJsonAndAGeoPackageQgisCanOpen) {
   EXPECT_EQ(rows[0]["ring_2_10_mgal"], 0.040);
   EXPECT_EQ(rows[0]["ring_50_end_mgal"], 0.0);
   EXPECT_EQ(rows[0]["position_source"], "GNSS");
+  // G2's position from its georeferenced DEM: the mark at UTM 32N 465030 E 5260030 N is
+  // 8.53573713 E 47.49276401 N (gdaltransform -s_srs EPSG:32632 -t_srs EPSG:4326).
+  EXPECT_EQ(rows[1]["position_source"], "GCPs");
+  EXPECT_NEAR(rows[1]["lon_deg"].get<double>(), 8.53573713472104, 1e-9);
+  EXPECT_NEAR(rows[1]["lat_deg"].get<double>(), 47.4927640114573, 1e-9);
+  EXPECT_EQ(rows[1]["height_m"], 412.5);
   EXPECT_EQ(rows[0]["verdict"], "good");  // sigma 0.004 within the default 0.01 mGal
   EXPECT_EQ(rows[2]["verdict"], "not processed");
   EXPECT_TRUE(rows[2]["terrain_correction_mgal"].is_null());
