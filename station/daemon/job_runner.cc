@@ -245,7 +245,8 @@ void JobRunner::StartRigJob(const Job& job, std::unique_ptr<RigLease> lease) {
 
 nlohmann::json JobRunner::CurrentJob() const {
   std::lock_guard lock(mutex_);
-  if (!rig_job_) {
+  // A rig job that has ended but not yet given the rig back is no longer current.
+  if (!rig_job_ || IsFinal(rig_job_->job.state)) {
     if (processing_id_ == 0) return nullptr;
     Result<Job> job = store_->Get(processing_id_);
     if (!job) return nullptr;

@@ -43,9 +43,12 @@ page.on('response', (r) => { if (r.status() >= 400) bad.push(r.status() + ' ' + 
 page.on('pageerror', (e) => bad.push('page error: ' + e.message));
 page.on('console', (m) => { if (m.type() === 'error') bad.push('console: ' + m.text()); });
 
+// This run's screenshots only: those of an earlier run of the scenario go.
+fs.mkdirSync(args.artifacts, {recursive: true});
+for (const f of fs.readdirSync(args.artifacts))
+  if (f.startsWith(`${args.scenario}-`)) fs.rmSync(path.join(args.artifacts, f));
 let shot = 0;
 async function screenshot(name) {
-  fs.mkdirSync(args.artifacts, {recursive: true});
   await page.screenshot({path: path.join(args.artifacts,
     `${args.scenario}-${String(++shot).padStart(2, '0')}-${name}.png`), fullPage: true});
 }
@@ -103,12 +106,68 @@ async function checkResult(id) {
   await screenshot(`${id}-result`);
 }
 
+// Sunlight: every visible text at least 7:1 against its background (WCAG AAA). Touch: every
+// control at least 44 x 44 px (WCAG 2.5.5). Keyboard: Tab alone reaches the form, the start
+// button and the history, each with a focus ring at least 3 px wide.
+async function checkSunlightTouchKeyboard() {
+  failures.push(...await page.evaluate(() => {
+    const rgb = (c) => {
+      const v = (c.match(/rgba?\(([^)]+)\)/) || [, '0,0,0,0'])[1].split(',').map(Number);
+      return {r: v[0], g: v[1], b: v[2], a: v.length > 3 ? v[3] : 1};
+    };
+    const luminance = ({r, g, b}) => {
+      const f = (x) => (x /= 255) <= 0.03928 ? x / 12.92 : ((x + 0.055) / 1.055) ** 2.4;
+      return 0.2126 * f(r) + 0.7152 * f(g) + 0.0722 * f(b);
+    };
+    const background = (e) => {
+      for (; e; e = e.parentElement) {
+        const c = rgb(getComputedStyle(e).backgroundColor);
+        if (c.a > 0) return c;
+      }
+      return {r: 255, g: 255, b: 255, a: 1};
+    };
+    const visible = (e) => e.getClientRects().length > 0;
+    const found = [];
+    for (const e of document.querySelectorAll('body *')) {
+      const text = [...e.childNodes].some((n) => n.nodeType === 3 && n.textContent.trim());
+      if (!text || !visible(e)) continue;
+      const [hi, lo] = [luminance(rgb(getComputedStyle(e).color)), luminance(background(e))]
+        .sort((x, y) => y - x);
+      const ratio = (hi + 0.05) / (lo + 0.05);
+      if (ratio < 7) found.push(`contrast ${ratio.toFixed(1)}:1: '${e.textContent.trim().slice(0, 40)}'`);
+    }
+    for (const e of document.querySelectorAll('button, input, textarea, a')) {
+      const r = e.getBoundingClientRect();
+      if (visible(e) && (r.width < 44 || r.height < 44))
+        found.push(`${e.tagName} ${e.id || e.textContent.trim().slice(0, 20)}: ` +
+          `${r.width.toFixed(0)} x ${r.height.toFixed(0)} px, under 44 px`);
+    }
+    return found;
+  }));
+  await page.evaluate(() => { document.activeElement.blur(); window.scrollTo(0, 0); });
+  const reached = new Set();
+  for (let i = 0; i < 60; ++i) {
+    await page.keyboard.press('Tab');
+    const focus = await page.evaluate(() => {
+      const e = document.activeElement;
+      if (e === document.body) return null;  // past the last control: the browser's own
+      return {id: e.id || e.textContent.trim(), ring: parseFloat(getComputedStyle(e).outlineWidth)};
+    });
+    if (!focus) continue;
+    reached.add(focus.id);
+    check(focus.ring >= 3, `focus ring of '${focus.id}' is ${focus.ring} px`);
+  }
+  for (const id of ['station', 'height', 'start', 'S1', 'campaign-link'])
+    check(reached.has(id), `Tab never reaches ${id} (reached: ${[...reached].join(', ')})`);
+}
+
 async function survey() {
   await enterToken();
   await fillStation('S1');
   await screenshot('form');
   await startAndWaitForResult('S1');
   await checkResult('S1');
+  await checkSunlightTouchKeyboard();
   // The next station: its id counted on, the crew's fields kept.
   await page.reload({waitUntil: 'load'});
   const offered = await page.$eval('#station', (e) => e.value);

@@ -13,6 +13,8 @@ let shownStation = null; // the station whose result is shown
 let plan = [];           // its capture plan [{pan_deg, tilt_deg}]
 let captured = new Set();  // plan indices with a pair on disk
 let lastPairsDone = -1;
+const ended = new Set();  // jobs whose end was seen: a late progress event must not revive them
+const FINAL = ['done', 'failed', 'cancelled', 'interrupted'];
 
 // ---- talking to the daemon -------------------------------------------------------------
 
@@ -74,7 +76,8 @@ function renderChips(status) {
 
 function applyStatus(status) {
   renderChips(status);
-  const job = status.current_job;
+  const job = status.current_job && !FINAL.includes(status.current_job.state) ?
+    status.current_job : null;
   let why = status.ready ? '' : status.not_ready_because;
   if (job && job.id) why = 'job ' + job.id + ' (' + job.kind + ' of ' + job.station + ') is ' +
     job.state;
@@ -191,6 +194,7 @@ function addThumb(station, index) {
 }
 
 function onProgress(p) {
+  if (ended.has(p.id)) return;
   if (!current || p.id !== current.id) showLive(p);
   $('pairs').textContent = (p.pairs_done ?? 0) + ' of ' + (p.pairs_total ?? '–');
   $('angles').textContent = 'pan ' + fixed(p.pan_deg, 1) + '°, tilt ' + fixed(p.tilt_deg, 1) + '°';
@@ -214,9 +218,11 @@ async function cancelJob() {
 // ---- jobs ending, interrupted jobs -----------------------------------------------------
 
 function onJob(job) {
+  if (!FINAL.includes(job.state)) ended.delete(job.id);  // resumed: the same job again
   const rigKind = ['survey', 'capture', 'retake'].includes(job.kind);
   if (rigKind && ['queued', 'capturing', 'processing'].includes(job.state)) showLive(job);
-  if (['done', 'failed', 'cancelled', 'interrupted'].includes(job.state)) {
+  if (FINAL.includes(job.state)) {
+    ended.add(job.id);
     if (current && current.id === job.id) {
       $('live-section').hidden = true;
       current = null;
@@ -239,7 +245,11 @@ async function refreshInterrupted() {
       const button = el('button', {type: 'button', class: 'primary', id: 'resume-' + j.id},
         'Resume ' + j.station);
       button.addEventListener('click', async () => {
-        try { showLive(await api('POST', '/jobs/' + j.id + '/resume')); refreshInterrupted(); }
+        try {
+          ended.delete(j.id);
+          showLive(await api('POST', '/jobs/' + j.id + '/resume'));
+          refreshInterrupted();
+        }
         catch (e) { say('Cannot resume: ' + e.message); }
       });
       list.append(el('li', {}, j.kind + ' of ' + j.station + ' (job ' + j.id + '): ' +
