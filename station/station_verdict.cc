@@ -13,6 +13,8 @@ namespace {
 
 // A sector with at least this share of its cells seen: a retake adds little.
 constexpr double kSeenShare = 0.95;
+// A retake worth the operator's time lowers sigma by at least a tenth.
+constexpr double kWorthwhileLowering = 0.1;
 
 double Number(const nlohmann::json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
@@ -76,14 +78,14 @@ struct Worst {
   const nlohmann::json* sector = nullptr;
 };
 
-Worst WorstBy(const nlohmann::json& rings, double max_inner_m,
-              double (*score)(const nlohmann::json&)) {
+template <class Score>
+Worst WorstBy(const nlohmann::json& rings, double max_inner_m, Score score) {
   Worst w;
   double best = -INFINITY;
   for (const nlohmann::json& ring : rings) {
     if (!(Number(ring, "inner_m") < max_inner_m) || !ring.contains("sectors")) continue;
     for (const nlohmann::json& sector : ring["sectors"]) {
-      const double s = score(sector);
+      const double s = score(ring, sector);
       if (s > best) best = s, w = {&ring, &sector};
     }
   }
@@ -106,8 +108,10 @@ StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePos
   const nlohmann::json rings = tc.value("rings", nlohmann::json::array());
   char text[400];
   if (tc.value("verdict", "") == "unusable") {
-    const Worst w =
-        WorstBy(rings, 30.0, [](const nlohmann::json& s) { return -Number(s, "coverage"); });
+    // The least seen direction within 30 m that a view reaches.
+    const Worst w = WorstBy(rings, 30.0, [&](const nlohmann::json& ring, const nlohmann::json& s) {
+      return Number(ring, "outer_m") > nearest_view_m ? -Number(s, "seen") : -INFINITY;
+    });
     v.verdict = "unusable";
     v.text = "no terrain correction: " + tc.value("unusable_because", std::string("unusable"));
     if (w.sector) {
@@ -124,34 +128,61 @@ StationVerdict JudgeStation(const nlohmann::json& tc, const std::vector<StagePos
                   sigma, required_sigma_mgal);
     return {"good", text, {}};
   }
-  const Worst w =
-      WorstBy(rings, INFINITY, [](const nlohmann::json& s) { return Number(s, "sigma_mgal"); });
   std::snprintf(text, sizeof text, "σ %.4f mGal exceeds the %.4f mGal you asked for", sigma,
                 required_sigma_mgal);
   v.text = text;
-  if (!w.sector) return {"as good as it gets", v.text, {}};
+  // What a retake can lower: ground a view reaches that the cameras did not see. The sector
+  // with the most of it is named when taking it again would lower sigma by a tenth or more.
+  const Worst fixable =
+      WorstBy(rings, INFINITY, [&](const nlohmann::json& ring, const nlohmann::json& s) {
+        const bool reached =
+            Number(ring, "outer_m") > nearest_view_m || !ring["outer_m"].is_number();
+        return reached && Number(s, "seen") < kSeenShare ? Number(s, "sigma_mgal") : -INFINITY;
+      });
+  if (fixable.sector) {
+    const double part = Number(*fixable.sector, "sigma_mgal");
+    const double without = std::sqrt(std::max(0.0, sigma * sigma - part * part));
+    if (part > 0 && without <= (1.0 - kWorthwhileLowering) * sigma) {
+      const double bearing = Number(*fixable.sector, "bearing_deg");
+      v.verdict = "retake";
+      v.retake = PosesToward(plan, bearing, Number(*fixable.ring, "inner_m") >= 20.0);
+      std::snprintf(text, sizeof text,
+                    ": the %s is %.0f %% covered, toward %.0f° only %.0f %% seen; retake %s",
+                    RingName(*fixable.ring).c_str(), 100 * Number(*fixable.ring, "coverage"),
+                    bearing, 100 * Number(*fixable.sector, "seen"),
+                    PosesText(v.retake, plan).c_str());
+      v.text += text;
+      return v;
+    }
+  }
+  // No retake would help: say where sigma comes from.
+  const Worst w = WorstBy(rings, INFINITY, [](const nlohmann::json&, const nlohmann::json& s) {
+    return Number(s, "sigma_mgal");
+  });
+  v.verdict = "as good as it gets";
+  if (!w.sector) {
+    v.text +=
+        ": its terrain correction has no sector table (an older version processed it): "
+        "process the station again to see where σ comes from";
+    return v;
+  }
   const double bearing = Number(*w.sector, "bearing_deg"), seen = Number(*w.sector, "seen");
   const std::string ring = RingName(*w.ring);
-  if (Number(*w.ring, "outer_m") <= nearest_view_m) {
+  if (Number(*w.ring, "outer_m") <= nearest_view_m)
     std::snprintf(text, sizeof text,
                   ": most of it is the %s toward %.0f°, nearer than any view reaches (%.1f m): "
                   "measure the ground's fall around the mark by hand",
                   ring.c_str(), bearing, nearest_view_m);
-    return {"as good as it gets", v.text + text, {}};
-  }
-  if (seen >= kSeenShare) {
+  else if (seen >= kSeenShare)
     std::snprintf(text, sizeof text,
                   ": most of it is the %s toward %.0f°, which was seen (%.0f %% of its cells): "
                   "the ground's own roughness, which a retake would not lower",
                   ring.c_str(), bearing, 100 * seen);
-    return {"as good as it gets", v.text + text, {}};
-  }
-  v.verdict = "retake";
-  v.retake = PosesToward(plan, bearing, Number(*w.ring, "inner_m") >= 20.0);
-  std::snprintf(text, sizeof text,
-                ": the %s is %.0f %% covered, toward %.0f° only %.0f %% seen; retake %s",
-                ring.c_str(), 100 * Number(*w.ring, "coverage"), bearing, 100 * seen,
-                PosesText(v.retake, plan).c_str());
+  else
+    std::snprintf(text, sizeof text,
+                  ": it is spread over many directions (the most, the %s toward %.0f°): no "
+                  "single retake would lower it by a tenth",
+                  ring.c_str(), bearing);
   v.text += text;
   return v;
 }

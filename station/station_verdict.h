@@ -3,11 +3,12 @@
 // station (issue 25), answered in plain words from the terrain correction and its ring and
 // sector table, against the sigma the crew asked for:
 //   good       sigma within what was asked;
-//   retake     sigma beyond it, and most of it from a direction where the ring lacks data:
-//              the poses that look there, to take again (a passer-by, a vehicle, a dark pair);
-//   as good as it gets  sigma beyond it, but from ground a retake cannot help: seen already
-//              (the terrain's own roughness), or nearer than any view reaches (under the
-//              rig: measured by hand);
+//   retake     sigma beyond it, and ground a view reaches but the cameras did not see (a
+//              passer-by, a vehicle, a dark pair) holds enough of it that taking the poses
+//              looking there again would lower sigma by a tenth or more: those poses;
+//   as good as it gets  sigma beyond it, and no retake would lower it by a tenth: most of it
+//              seen already (the terrain's own roughness), nearer than any view reaches
+//              (under the rig: measured by hand), or spread over many directions;
 //   unusable   the correction has no value (too little ground seen): the poses facing the
 //              emptiest direction.
 // The direction is a bearing in the station frame L, where it equals the stage's pan.

@@ -84,6 +84,24 @@ TEST(StationVerdict, GroundNearerThanAnyViewIsMeasuredByHandNotRetaken) {
   EXPECT_EQ(JudgeStation(Tc(0.03, 0, 2, 0.0, 0.029), Plan(), 0.01, 1.5).verdict, "retake");
 }
 
+// Most of sigma under the rig, where no view reaches; a far sector unseen besides: retaken
+// when taking it again lowers sigma by a tenth or more, else not.
+TEST(StationVerdict, ARetakeIsNamedWhenItLowersSigmaByATenth) {
+  nlohmann::json tc = Tc(0.033, 3, 4, 0.1, 0.02);
+  tc["rings"][0]["sectors"][2]["sigma_mgal"] = 0.025;
+  tc["rings"][0]["sectors"][2]["seen"] = 0.0;
+  const StationVerdict worth = JudgeStation(tc, Plan(), 0.01, 2.4);
+  EXPECT_EQ(worth.verdict, "retake") << worth.text;
+  ASSERT_EQ(worth.retake.size(), 2u);
+  EXPECT_EQ(worth.retake[0].pan_deg, 120.0);
+  tc["rings"][3]["sectors"][4]["sigma_mgal"] = 0.005;  // sqrt(0.033^2 - 0.005^2) = 0.0326
+  const StationVerdict not_worth = JudgeStation(tc, Plan(), 0.01, 2.4);
+  EXPECT_EQ(not_worth.verdict, "as good as it gets");
+  EXPECT_TRUE(not_worth.retake.empty());
+  EXPECT_NE(not_worth.text.find("0-2 m ring toward 60°, nearer than any view"), std::string::npos)
+      << not_worth.text;
+}
+
 TEST(StationVerdict, UnusableNamesTheLeastSeenDirection) {
   nlohmann::json tc = Tc(0.0, 2, 7, 0.0, 0.0);
   tc["verdict"] = "unusable";
@@ -94,6 +112,12 @@ TEST(StationVerdict, UnusableNamesTheLeastSeenDirection) {
   EXPECT_EQ(v.retake[0].pan_deg, 210.0);
   EXPECT_NE(v.text.find("only 8 %"), std::string::npos) << v.text;
   EXPECT_EQ(JudgeStation(nullptr, Plan(), 0.01).verdict, "not processed");
+  // A correction from before the sectors: no direction to name, and it says so.
+  const StationVerdict old = JudgeStation(
+      {{"verdict", "usable"}, {"sigma_mgal", 0.02}, {"rings", nlohmann::json::array()}}, Plan(),
+      0.01);
+  EXPECT_EQ(old.verdict, "as good as it gets");
+  EXPECT_NE(old.text.find("process the station again"), std::string::npos) << old.text;
 }
 
 }  // namespace
