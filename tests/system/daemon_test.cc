@@ -247,6 +247,25 @@ TEST_F(DaemonTest, EveryRouteThatMovesOrWritesNeedsTheTokenAndForeignHostsAreRef
   EXPECT_EQ(c.Get("/api/v1/stations/..%2F..%2Fstate")->status, 404);
   EXPECT_EQ(c.Get("/api/v1/stations/S1/products/..%2F..%2Ftoken")->status, 404);
   EXPECT_EQ(c.Get("/api/v1/stations/..%2Fstate/products/token")->status, 404);
+  // The page's routes: each bad request one clear answer naming what is wrong.
+  for (const char* path :
+       {"/api/v1/stations/..%2F..%2Fstate/station.zip", "/api/v1/stations/S9/station.zip",
+        "/api/v1/stations/S9/pairs/0/left.jpg", "/api/v1/diffs/S1--S2/dod.png",
+        "/api/v1/diffs/..--..%2Ftoken/change.json"})
+    EXPECT_EQ(c.Get(path)->status, 404) << path;
+  auto no_stations = c.Get("/api/v1/campaign.csv");
+  EXPECT_EQ(no_stations->status, 404);
+  EXPECT_NE(no_stations->body.find("no station"), std::string::npos) << no_stations->body;
+  auto no_before = d->Post("/diffs", {{"after", "S2"}});
+  EXPECT_EQ(no_before->status, 400);
+  EXPECT_NE(no_before->body.find("before"), std::string::npos) << no_before->body;
+  auto unknown = d->Post("/diffs", {{"before", "S1"}, {"after", "../S2"}});
+  EXPECT_EQ(unknown->status, 404);
+  EXPECT_NE(unknown->body.find("before: no such station"), std::string::npos) << unknown->body;
+  EXPECT_EQ(c.Get("/")->status, 200);
+  EXPECT_EQ(c.Get("/")->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  EXPECT_NE(c.Get("/")->get_header_value("Content-Security-Policy").find("default-src 'self'"),
+            std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir_ / "escaped"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "state/escaped"));
   EXPECT_TRUE(std::filesystem::is_empty(d->stations_dir()));
