@@ -87,9 +87,11 @@ Status RunDaemon(const DaemonConfig& config, const std::atomic<bool>& stop) {
 
   EventHub events;
   SinkGuard log_events(std::make_shared<EventLogSink>(&events));
-  DeviceSupervisor devices(*rig,
-                           std::chrono::milliseconds(static_cast<int>(1000 * config.device_poll_s)),
-                           [&events](const nlohmann::json& d) { events.Publish("devices", d); });
+  DeviceSupervisor devices(
+      *rig, std::chrono::milliseconds(static_cast<int>(1000 * config.device_poll_s)),
+      // Every lease and return says so: previews at 1 Hz from many
+      // pages would flood the streams; the latest state always arrives.
+      [&events](const nlohmann::json& d) { events.PublishThrottled("devices", "devices", d); });
   const std::unique_ptr<UsbWatcher> usb = WatchUsb(config, &devices);
   JobRunner jobs(config, store->get(), &devices, &events);
   HttpApi api({&config, *token, store->get(), &devices, &events, &jobs});

@@ -114,13 +114,19 @@ std::unique_ptr<RigLease> DeviceSupervisor::TryLease(const std::string& user, st
 }
 
 void DeviceSupervisor::Return() {
-  std::lock_guard lock(mutex_);
-  if (stage_ && stage_->interrupted()) stage_.reset();  // a stopped job's stage: open anew
-  lent_to_.clear();
-  for (DeviceStatus* d : {&left_, &right_, &stage_status_})
-    if (d->state == DeviceState::kInUse) d->state = DeviceState::kPresent, d->reason.clear();
-  poll_now_ = true;  // the job may have lost a device
-  wake_.notify_all();
+  nlohmann::json devices;
+  {
+    std::lock_guard lock(mutex_);
+    if (stage_ && stage_->interrupted()) stage_.reset();  // a stopped job's stage: open anew
+    lent_to_.clear();
+    for (DeviceStatus* d : {&left_, &right_, &stage_status_})
+      if (d->state == DeviceState::kInUse) d->state = DeviceState::kPresent, d->reason.clear();
+    poll_now_ = true;  // the job may have lost a device
+    wake_.notify_all();
+    devices = DevicesJsonLocked();
+  }
+  // No longer in use: said now, as the lease said "in use" (the poll reports only changes).
+  if (on_change_) on_change_(devices);
 }
 
 Status DeviceSupervisor::StopStage() {

@@ -6,6 +6,8 @@
 // Scenarios:
 //   survey   token, station S1, start, wait for the result, check the terrain correction
 //            shown against terrain_correction.json, the verdict against the station's own;
+//            sunlight contrast, touch targets, keyboard; the retake a verdict names, run from
+//            its button;
 //            the next station offered (S2, the fields kept), surveyed; both compared (DoD and
 //            subsidence table against change.json); the zip and the campaign table fetched.
 //   start    token, station R1, start, return once two poses of the ring are done.
@@ -88,8 +90,11 @@ async function startAndWaitForResult(id) {
     document.querySelector('#dem-img').naturalWidth > 0, {timeout: 30000});
 }
 
-// The terrain correction and verdict shown against the station's own files.
+// The terrain correction and verdict shown against the station's own files; the rig shown
+// free again once the job gave it back.
 async function checkResult(id) {
+  await page.waitForFunction(() => document.querySelectorAll('#chips .chip.present').length >= 3,
+    {timeout: 10000}).catch(() => failures.push(`${id}: the devices still shown in use`));
   const tc = readJson(path.join(args.stations, id, 'products/terrain_correction.json'));
   const shown = await page.$eval('#tc-value', (e) => ({text: e.textContent, value: e.dataset.value}));
   check(Number(shown.value) === tc.terrain_correction_mgal,
@@ -161,6 +166,36 @@ async function checkSunlightTouchKeyboard() {
     check(reached.has(id), `Tab never reaches ${id} (reached: ${[...reached].join(', ')})`);
 }
 
+// The retake button runs exactly the retake its verdict names. S1's correction is edited as
+// if the ground 20-30 m out toward 90° had gone unseen (a vehicle parked there): the verdict
+// names the poses at pan 90°, the button takes them again, the station is processed anew.
+async function retakeFromTheVerdict() {
+  const file = path.join(args.stations, 'S1/products/terrain_correction.json');
+  const tc = readJson(file);
+  const sector = tc.rings.find((r) => r.inner_m === 20).sectors[3];
+  Object.assign(sector, {coverage: 0.2, seen: 0.0, sigma_mgal: 2 * tc.sigma_mgal});
+  tc.sigma_mgal = Math.hypot(tc.sigma_mgal, sector.sigma_mgal);
+  fs.writeFileSync(file, JSON.stringify(tc));
+  await page.click('#history tr[data-station="S1"] button');
+  await page.waitForSelector('#retake:not([hidden])', {timeout: 30000});
+  const named = (await (await fetch(`${args.url}api/v1/stations/S1`)).json()).assessment;
+  check(named.verdict === 'retake' && named.retake.length > 0 &&
+    named.retake.every((p) => Math.round(p.pan_deg) === 90), `verdict ${JSON.stringify(named)}`);
+  check((await page.$eval('#verdict', (e) => e.textContent)) === named.text, 'verdict shown');
+  await screenshot('S1-retake-offered');
+  await page.click('#retake');
+  await page.waitForSelector('#live-section:not([hidden])', {timeout: 30000});
+  await page.waitForFunction((before) => !document.querySelector('#result-section').hidden &&
+    document.querySelector('#verdict').textContent !== before, {timeout: RESULT_TIMEOUT},
+    named.text);
+  const jobs = await (await fetch(`${args.url}api/v1/jobs`)).json();
+  const retake = jobs.find((j) => j.kind === 'retake');
+  check(retake && retake.state === 'done' &&
+    JSON.stringify(retake.parameters.poses) === JSON.stringify(named.retake),
+    `retake job ${JSON.stringify(retake)} for ${JSON.stringify(named.retake)}`);
+  await checkResult('S1');
+}
+
 async function survey() {
   await enterToken();
   await fillStation('S1');
@@ -168,6 +203,7 @@ async function survey() {
   await startAndWaitForResult('S1');
   await checkResult('S1');
   await checkSunlightTouchKeyboard();
+  await retakeFromTheVerdict();
   // The next station: its id counted on, the crew's fields kept.
   await page.reload({waitUntil: 'load'});
   const offered = await page.$eval('#station', (e) => e.value);

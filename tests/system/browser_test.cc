@@ -1,8 +1,8 @@
 // The operator's page in a real browser: Debian's chromium, headless, driven by puppeteer-core
 // (tests/browser/page_test.mjs) against topostationd driving the simulated station. A whole
-// station and a second epoch with their comparison, then a daemon killed mid-capture and the
-// page offering the interrupted job for resume. Screenshots are kept in
-// BUILD/test-artifacts/browser/.
+// station, the retake its verdict names, a second epoch and the comparison of the two, then a
+// daemon killed mid-capture and the page offering the interrupted job for resume.
+// Screenshots are kept in BUILD/test-artifacts/browser/.
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -40,14 +40,19 @@ TEST_F(BrowserTest, AStationAndASecondEpochComparedAllFromThePage) {
   ASSERT_TRUE(WaitReady(*d));
   std::string output;
   EXPECT_EQ(RunPage(*d, "survey", &output), 0) << output << d->log();
-  // What the page started are ordinary jobs: two surveys with the fields typed into the form.
+  // What the page started are ordinary jobs: two surveys with the fields typed into the form,
+  // and the retake of S1's verdict.
   const nlohmann::json jobs = d->GetJson("/jobs");
-  ASSERT_EQ(jobs.size(), 2u) << jobs.dump();
+  ASSERT_EQ(jobs.size(), 3u) << jobs.dump();
+  int surveys = 0;
   for (const nlohmann::json& job : jobs) {
     EXPECT_EQ(job["state"], "done") << job.dump();
+    if (job["kind"] == "retake") continue;
+    ++surveys;
     EXPECT_EQ(job["parameters"]["line"], "L7");
     EXPECT_EQ(job["parameters"]["instrument_height_m"], 1.52);
   }
+  EXPECT_EQ(surveys, 2);
 }
 
 TEST_F(BrowserTest, AfterARestartMidCaptureThePageOffersTheJobForResume) {
