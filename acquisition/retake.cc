@@ -4,19 +4,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include "processing/common/angles.h"
 #include "processing/io/station_manifest.h"
 
 namespace ts {
-namespace {
 
 namespace fs = std::filesystem;
-
-double AngleBetweenDeg(double a, double b) {
-  const double d = std::fmod(std::abs(a - b), 360.0);
-  return std::min(d, 360.0 - d);
-}
-
-}  // namespace
 
 Result<RetakeSummary> SetPairsAsideForRetake(const std::string& dir,
                                              const std::vector<StagePose>& poses,

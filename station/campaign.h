@@ -18,16 +18,17 @@ namespace ts {
 Result<std::vector<std::string>> FindStations(const std::vector<std::string>& dirs);
 
 // One row: {"station", "line", "time_utc", "instrument_height_m", "lat_deg", "lon_deg",
-// "height_m", "position_source", "density_g_cm3", "terrain_correction_mgal",
-// "terrain_correction_sigma_mgal", "ring_A_B_mgal"..., "coverage_30m", "dem_rmse_m",
-// "calibration", "verdict", "warnings"}; null where the station does not know.
+// "height_m", "position_source" (GNSS, else GCPs: the mark of a georeferenced DEM),
+// "density_g_cm3", "terrain_correction_mgal", "terrain_correction_sigma_mgal",
+// "ring_A_B_mgal"..., "coverage_30m", "dem_rmse_m", "calibration", "verdict",
+// "verdict_reason" (station_verdict.h), "warnings"}; null where the station does not know.
 Result<nlohmann::ordered_json> CampaignRow(const std::string& station_dir);
 
 // The rows as CSV (RFC 4180: quoted where needed; warnings joined by " | "), every column any
 // row has, in the order they first appear.
 std::string CampaignCsv(const std::vector<nlohmann::ordered_json>& rows);
 
-// A GeoPackage: layer "stations" (points, EPSG:4326, from GNSS positions) with each row's
+// A GeoPackage: layer "stations" (points, EPSG:4326, from the rows' positions) with each row's
 // attributes, and "dem_footprints" (polygons, EPSG:4326) of the DEMs in a projected CRS.
 Status WriteCampaignGeoPackage(const std::vector<nlohmann::ordered_json>& rows,
                                const std::vector<std::string>& station_dirs,

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <thread>
 #include <vector>
 
+#include "processing/io/atomic_file.h"
 #include "processing/io/station_manifest.h"
 
 namespace ts {
@@ -48,20 +48,20 @@ Status WriteStationArchive(const std::string& station_dir, const std::string& zi
   for (const auto& e : fs::directory_iterator(dir / "products", ec))
     if (e.is_regular_file())
       files.emplace_back(e.path(), station + "/products/" + e.path().filename().string());
-  // Two downloads at once each write their own.
-  const std::string partial =
-      zip_file + "." + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id())) +
-      ".partial";
-  fs::remove(partial, ec);
+  // Written aside and renamed into place: two downloads at once each write their own.
+  const std::string partial = TemporaryPathFor(zip_file);
+  Status written;
   {
     std::unique_ptr<void, ZipCloser> zip(CPLCreateZip(partial.c_str(), nullptr));
     if (!zip) return Error{zip_file + ": cannot create"};
     for (const auto& [file, name] : files)
-      if (Status s = AddFile(zip.get(), file, name); !s) return s;
+      if (written) written = AddFile(zip.get(), file, name);
   }
-  fs::rename(partial, zip_file, ec);
-  if (ec) return Error{zip_file + ": " + ec.message()};
-  return {};
+  if (!written) {
+    fs::remove(partial, ec);
+    return written;
+  }
+  return PublishAtomically(partial, zip_file);
 }
 
 }  // namespace ts

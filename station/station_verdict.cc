@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "processing/common/angles.h"
 #include "processing/geometry/capture_plan.h"
 #include "processing/io/json_fields.h"
 #include "processing/io/station_manifest.h"
@@ -28,11 +29,6 @@ std::string RingName(const nlohmann::json& ring) {
   else
     std::snprintf(text, sizeof text, "ground beyond %.0f m", inner);
   return text;
-}
-
-double AngleBetweenDeg(double a, double b) {
-  const double d = std::fmod(std::abs(a - b), 360.0);
-  return std::min(d, 360.0 - d);
 }
 
 // The poses that look toward `bearing`: the nearest pan within half a pose's spacing; the
@@ -63,12 +59,10 @@ std::string PosesText(const std::vector<StagePose>& poses, const std::vector<Sta
   std::string text;
   for (size_t i = 0; i < poses.size(); ++i) {
     char one[80];
-    std::snprintf(one, sizeof one, "%s%s pose at %.0f°", i ? " and the " : "the ",
-                  upper(poses[i]) ? "upper" : "", poses[i].pan_deg);
+    std::snprintf(one, sizeof one, "%s %s at %.0f°", i ? " and the" : "the",
+                  upper(poses[i]) ? "upper pose" : "pose", poses[i].pan_deg);
     text += one;
   }
-  // "the  pose" when not upper: one space.
-  for (size_t at; (at = text.find("  ")) != std::string::npos;) text.erase(at, 1);
   return text;
 }
 

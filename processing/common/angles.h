@@ -16,4 +16,10 @@ inline double LargestAngularGap(std::vector<double> angles) {
   return gap;
 }
 
+// The angle (degrees, 0-180) between two directions given in degrees, whatever their turns.
+inline double AngleBetweenDeg(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 360.0);
+  return std::min(d, 360.0 - d);
+}
+
 }  // namespace ts

@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <thread>
 
+#include "processing/io/atomic_file.h"
 #include "station/campaign.h"
 #include "station/commands.h"
 #include "station/daemon/daemon_config.h"
@@ -106,17 +106,18 @@ void HttpApi::CampaignTable(bool geopackage, httplib::Response& res) {
     res.set_header("Content-Disposition", "attachment; filename=\"campaign.csv\"");
     return res.set_content(CampaignCsv(rows), "text/csv; charset=utf-8");
   }
-  // Each request its own file: two downloads at once must not write one.
+  // Written aside and published atomically: two downloads at once each write their own. The
+  // temporary name keeps .gpkg, which GDAL's GeoPackage driver wants.
   const fs::path folder = fs::path(parts_.config->state_dir) / "downloads";
   std::error_code ec;
   fs::create_directories(folder, ec);
-  const std::string file =
-      (folder /
-       ("campaign-" + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id())) +
-        ".gpkg"))
-          .string();
-  if (Status s = WriteCampaignGeoPackage(rows, dirs, file); !s)
+  const std::string file = (folder / "campaign.gpkg").string();
+  const std::string partial = TemporaryPathFor((folder / "campaign").string()) + ".gpkg";
+  if (Status s = WriteCampaignGeoPackage(rows, dirs, partial); !s) {
+    fs::remove(partial, ec);
     return SendError(res, 500, s.error());
+  }
+  if (Status s = PublishAtomically(partial, file); !s) return SendError(res, 500, s.error());
   res.set_header("Content-Disposition", "attachment; filename=\"campaign.gpkg\"");
   SendFile(res, file, "application/geopackage+sqlite3");
 }
