@@ -195,7 +195,7 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
           continue;
         }
         if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
-        if (!has_horizon || setter != Setter::kGround || z <= horizon + o.tolerance_m) continue;
+        if (!has_horizon || setter == Setter::kObject || z <= horizon + o.tolerance_m) continue;
         count.lowering_m += z - horizon;
         z = static_cast<float>(horizon);
         ++count.lowered;

@@ -11,10 +11,13 @@
 // the seen ground (the ground points within edge_m all on one side of it: an angular gap over
 // 180 degrees) is lowered to the horizon when it stands above it by more than tolerance_m. The
 // horizon of a cell is the highest line of sight, from the viewpoint, to a point in front of it
-// (nearer than it, within +-bin_half_width_deg of its azimuth). Only a horizon set by a ground
-// point counts: ground hidden behind a tree continues the ground around it and may rise above
-// the line of sight over the tree's lowest seen part. Cells between seen ground and cells with
-// ground near them are left to kriging.
+// (nearer than it, within +-bin_half_width_deg of its azimuth). A horizon set by an object (a
+// point standing min_object_height_m above the DEM) does not count: ground hidden behind a tree
+// continues the ground around it and may rise above the line of sight over the tree's lowest
+// seen part. One set by a point on the terrain counts, ground or not: the crest of a dike or
+// an embankment is convex ground the ground filter often leaves out, and it is what hides the
+// hollow behind. Cells between seen ground and cells with ground near them are left to
+// kriging.
 //
 // Ground hidden by an object is the other case: a bush or a grove hides ground that goes on
 // beneath and behind it, at the level of the ground around it, so kriging may reach farther

@@ -64,6 +64,28 @@ TEST(HorizonLimit, LowersTheHollowBehindABrowToTheLineOfSight) {
   EXPECT_GT(result.mean_lowering_m, 0.3);
 }
 
+// The brow's own crest is convex ground a morphological filter takes for an object (a dike's
+// or an embankment's top): the points on it stand on the terrain, not above it, and still set
+// the horizon the hollow behind lies below.
+TEST(HorizonLimit, ABrowLeftOutByTheGroundFilterStillHidesTheHollow) {
+  Scene s;
+  s.Ring(2.0, 9.0, true, Rise);
+  s.Ring(9.25, 10.0, false, Rise);
+  Raster dem = Extrapolated();
+  const HorizonLimitResult result = LimitToHorizon(s.points, s.ground, kViewpoint, {}, &dem);
+  int lowered = 0;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double d = std::hypot(dem.CellCentreX(c), dem.CellCentreY(r));
+      if (d > 12.0 && d < 16.0) {
+        EXPECT_NEAR(dem.at(r, c), 1.5 - 0.05 * d, 1e-4) << "hidden, at " << d << " m";
+        ++lowered;
+      }
+    }
+  EXPECT_GT(lowered, 20);
+  EXPECT_GE(result.cells_lowered, lowered);
+}
+
 TEST(HorizonLimit, LeavesGroundBetweenSeenGroundAndBehindObjects) {
   Scene between;  // the far side of the hollow is seen too: the hollow is interpolated
   between.Ring(2.0, 10.0, true, Rise);
