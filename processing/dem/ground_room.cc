@@ -48,7 +48,7 @@ cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double 
   const int margin = static_cast<int>(std::ceil(margin_m / fine));
   cv::Mat free(dem.rows * kRatio + 2 * margin, dem.cols * kRatio + 2 * margin, CV_8U,
                cv::Scalar(255));
-  for (const Eigen::Vector3d& p : ground.positions) {
+  for (const Eigen::Vector3d& p : ground.All()) {
     const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / fine)) + margin;
     const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / fine)) + margin;
     if (c >= 0 && r >= 0 && c < free.cols && r < free.rows) free.at<uint8_t>(r, c) = 0;
@@ -67,7 +67,7 @@ cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double 
 std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
   std::vector<int> count(dem.values.size(), 0);
   int r = 0, c = 0;
-  for (const Eigen::Vector3d& p : ground.positions)
+  for (const Eigen::Vector3d& p : ground.All())
     if (dem.CellOf(p.x(), p.y(), &r, &c)) ++count[static_cast<size_t>(r) * dem.cols + c];
   return count;
 }

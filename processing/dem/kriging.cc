@@ -106,11 +106,18 @@ std::vector<Eigen::Vector3d> ResidualsFromPlane(std::vector<Eigen::Vector3d> poi
 
 }  // namespace
 
+std::vector<Eigen::Vector3d> KrigingPoints::All() const {
+  std::vector<Eigen::Vector3d> all = positions;
+  all.insert(all.end(), surveyed.begin(), surveyed.end());
+  return all;
+}
+
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
   if (!(cell_m > 0.0)) return points;
   const bool weighted = !points.height_variances_m2.empty();
   const GridIndex grid(points.positions, cell_m);
   KrigingPoints thinned;
+  thinned.surveyed = points.surveyed;
   for (int r = 0; r < grid.rows(); ++r)
     for (int c = 0; c < grid.cols(); ++c) {
       const int count = grid.Count(c, r);
@@ -132,8 +139,14 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
   CheckVariances(kriging_points, "KrigeOnto");
-  const std::vector<Eigen::Vector3d>& points = kriging_points.positions;
-  const std::vector<double>& variances = kriging_points.height_variances_m2;
+  const std::vector<Eigen::Vector3d> points = kriging_points.All();
+  // Each point's nugget: its own variance where it is larger than the fitted one; none for
+  // the surveyed points.
+  std::vector<double> nugget(points.size(), 0.0);
+  for (size_t i = 0; i < kriging_points.positions.size(); ++i)
+    nugget[i] = kriging_points.height_variances_m2.empty()
+                    ? model.nugget
+                    : std::max(model.nugget, kriging_points.height_variances_m2[i]);
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
@@ -159,9 +172,7 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
         Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
         for (int i = 0; i < n; ++i) {
           const Eigen::Vector3d& p = points[near[i].index];
-          a(i, i) =
-              model.partial_sill +
-              (variances.empty() ? model.nugget : std::max(model.nugget, variances[near[i].index]));
+          a(i, i) = model.partial_sill + nugget[near[i].index];
           for (int j = i + 1; j < n; ++j) {
             const Eigen::Vector3d& q = points[near[j].index];
             a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));

@@ -71,9 +71,15 @@ struct KrigingResult {
 };
 
 // Points to krige; height_variances_m2 is empty (all alike: the fitted nugget) or one per point.
+// Surveyed points (the station mark: its height is the instrument height, taped) are known
+// exactly: kriged without a nugget, never thinned, and not in the variogram, which is the
+// matched ground's.
 struct KrigingPoints {
   std::vector<Eigen::Vector3d> positions;
   std::vector<double> height_variances_m2;
+  std::vector<Eigen::Vector3d> surveyed;
+  // The matched and the surveyed points in one list.
+  std::vector<Eigen::Vector3d> All() const;
 };
 
 // Thins the points to one mean point per thin_cell_m square; the mean's variance is the

@@ -94,6 +94,14 @@ bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary
   return true;
 }
 
+// The ground points and the station mark, a ground point surveyed exactly (the tripod hides
+// the ground around it from the cameras; the terrain correction ties the surface to it).
+KrigingPoints GroundAndMark(const StationWork& w) {
+  KrigingPoints known = w.ground;
+  known.surveyed.push_back(w.mark_dem);
+  return known;
+}
+
 bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   const StationInputs& in = *w->inputs;
   const Eigen::Vector3d mark_l = in.calibration.stage.StationMarkInL();
@@ -117,10 +125,11 @@ bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   Raster grid = Raster::Make(min_x, max_y, o.dem_cell_m, cells, cells);
   grid.crs_wkt = crs_wkt;
   // Kriging reaches as far as object shadows may; LimitDemToHorizon takes back what no object
-  // hid.
+  // hid. The mark is kriged with the ground: under the tripod, where no camera looks, it is
+  // the one height known.
   KrigingOptions kriging = o.kriging;
   kriging.max_distance_m = o.horizon.KrigingReach(o.kriging.max_distance_m);
-  w->kriged = KrigeDem(w->ground, grid, kriging);
+  w->kriged = KrigeDem(GroundAndMark(*w), grid, kriging);
   w->kriged.dem.crs_wkt = w->kriged.std.crs_wkt = crs_wkt;
   s->counts = {{"kriging_points", w->kriged.points_used}, {"cells", cells * cells}};
   return true;
@@ -185,15 +194,6 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
                {"mean_lowering_m", lowered.mean_lowering_m},
                {"max_lowering_m", lowered.max_lowering_m}};
   return true;
-}
-
-// The ground points and the station mark, a ground point known exactly (the tripod hides the
-// ground around it from the cameras; the terrain correction ties the surface to it).
-KrigingPoints GroundAndMark(const StationWork& w) {
-  KrigingPoints known = w.ground;
-  known.positions.push_back(w.mark_dem);
-  if (!known.height_variances_m2.empty()) known.height_variances_m2.push_back(0.0);
-  return known;
 }
 
 bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s) {

@@ -18,7 +18,9 @@ VariogramModel Linearish() {  // spherical, 2 m^2 sill, 50 m range: gamma(h) nea
 
 Raster OneCell(double x, double y) { return Raster::Make(x - 0.5, y + 0.5, 1.0, 1, 1); }
 
-KrigingPoints Alike(std::vector<Eigen::Vector3d> positions) { return {std::move(positions), {}}; }
+KrigingPoints Alike(std::vector<Eigen::Vector3d> positions) {
+  return {std::move(positions), {}, {}};
+}
 
 // One point at distance d: lambda = 1, mu = gamma(d), sigma^2 = 2 gamma(d).
 TEST(Kriging, OnePointGivesItsHeightAndTwiceTheSemivariance) {
@@ -35,7 +37,7 @@ TEST(Kriging, OnePointGivesItsHeightAndTwiceTheSemivariance) {
 TEST(Kriging, APointsOwnVarianceAddsToTheCellsVariance) {
   const VariogramModel m = Linearish();
   Raster dem = OneCell(0, 0), std_dev;
-  KrigeOnto({{{1.5, 2.0, 7.25}}, {0.09}}, m, KrigingOptions{}, &dem, &std_dev);
+  KrigeOnto({{{1.5, 2.0, 7.25}}, {0.09}, {}}, m, KrigingOptions{}, &dem, &std_dev);
   EXPECT_NEAR(dem.at(0, 0), 7.25, 1e-5);
   EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(2.0 * m(2.5) + 0.09), 1e-5);
 }
@@ -49,18 +51,42 @@ TEST(Kriging, ANoisyPointWeighsLessThanAnExactOne) {
                c1 = m.SignalCovariance(2.0);
   const double noisy = (p - c) / (2 * (p - c) + v), mu = c1 - noisy * (p + v) - (1 - noisy) * c;
   Raster dem = OneCell(10, 20), std_dev;
-  KrigeOnto({{{8, 20, 1.0}, {12, 20, 3.0}}, {v, 0.0}}, m, KrigingOptions{}, &dem, &std_dev);
+  KrigeOnto({{{8, 20, 1.0}, {12, 20, 3.0}}, {v, 0.0}, {}}, m, KrigingOptions{}, &dem, &std_dev);
   EXPECT_NEAR(dem.at(0, 0), noisy * 1.0 + (1 - noisy) * 3.0, 1e-5);
   EXPECT_GT(dem.at(0, 0), 2.1);
   EXPECT_NEAR(std_dev.at(0, 0), std::sqrt(p - c1 - mu), 1e-5);
   EXPECT_GT(std_dev.at(0, 0), std::sqrt(2.0 * m(2.0) - 0.5 * m(4.0)));
 }
 
+// A surveyed point (the station mark) is exact however noisy the matched ground: a cell centred
+// on it has its height and no std, whatever nugget the ground's variogram has; thinning and
+// the variogram leave it alone.
+TEST(Kriging, ASurveyedPointIsHonouredExactlyDespiteTheNugget) {
+  VariogramModel m = Linearish();
+  m.nugget = 0.04;
+  KrigingPoints points{{{2, 0, 1.0}, {-2, 0, 1.2}, {0, 2, 0.9}, {0, -2, 1.1}}, {}, {{0, 0, 2.0}}};
+  Raster dem = OneCell(0, 0), std_dev;
+  KrigeOnto(points, m, KrigingOptions{}, &dem, &std_dev);
+  EXPECT_NEAR(dem.at(0, 0), 2.0, 1e-5);
+  EXPECT_NEAR(std_dev.at(0, 0), 0.0, 1e-3);
+  // As a matched point with the fitted nugget it would be pulled towards its neighbours.
+  KrigingPoints matched = points;
+  matched.positions.push_back(matched.surveyed.front());
+  matched.surveyed.clear();
+  KrigeOnto(matched, m, KrigingOptions{}, &dem, &std_dev);
+  EXPECT_LT(dem.at(0, 0), 1.99);
+  EXPECT_GT(std_dev.at(0, 0), 0.01);
+  const KrigingPoints thinned = ThinPoints(points, 10.0);
+  EXPECT_EQ(thinned.positions.size(), 1u);
+  EXPECT_EQ(thinned.surveyed, points.surveyed);
+}
+
 // The mean of n points in a thinning cell has their mean variance over n.
 TEST(Kriging, ThinningAveragesPositionsAndDividesTheVariance) {
   const KrigingPoints thinned =
       ThinPoints({{{0.1, 0.1, 1.0}, {0.2, 0.1, 2.0}, {0.3, 0.2, 3.0}, {5.1, 5.1, 7.0}},
-                  {0.03, 0.06, 0.09, 0.04}},
+                  {0.03, 0.06, 0.09, 0.04},
+                  {}},
                  0.5);
   ASSERT_EQ(thinned.positions.size(), 2u);
   ASSERT_EQ(thinned.height_variances_m2.size(), 2u);
@@ -232,7 +258,7 @@ TEST(Kriging, RejectsBadOptions) {
   EXPECT_NE(why.find("neighbours"), std::string::npos);
   Raster dem = OneCell(0, 0), s;
   EXPECT_THROW(KrigeOnto(Alike({}), Linearish(), o, &dem, &s), std::invalid_argument);
-  const KrigingPoints short_of_variances{{{0, 0, 1}, {1, 0, 1}}, {0.01}};
+  const KrigingPoints short_of_variances{{{0, 0, 1}, {1, 0, 1}}, {0.01}, {}};
   EXPECT_THROW(KrigeOnto(short_of_variances, Linearish(), KrigingOptions{}, &dem, &s),
                std::invalid_argument);
   KrigingOptions bad_extrapolation;
