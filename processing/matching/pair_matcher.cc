@@ -101,6 +101,7 @@ class SpacingFilter {
 
 // The map's disparity at full-resolution pixel p (in full-resolution pixels), -1 for none.
 int MapDisparity(const DisparityMap& map, cv::Point p) {
+  if (p.x < 0 || p.y < 0) return -1;
   const int mu = p.x >> map.level, mv = p.y >> map.level;
   if (mu >= map.disparity.cols || mv >= map.disparity.rows) return -1;
   const int coarse = map.disparity.at<int16_t>(mv, mu);
@@ -176,6 +177,49 @@ LsmResult FitSubPixel(const PairContext& c, const PairMatchOptions& o, cv::Point
   return lsm;
 }
 
+// The least-squares window of a point, half its width and height in full-resolution pixels.
+cv::Size LsmHalfWindow(const PairContext& c, const PairMatchOptions& o, int d, bool half) {
+  const LsmOptions& w = half ? o.near_lsm : d < c.far_disparity ? o.far_lsm : o.lsm;
+  const int scale = half ? 2 : 1;
+  return {scale * w.half_window_px,
+          scale * (w.half_height_px > 0 ? w.half_height_px : w.half_window_px)};
+}
+
+// The share of a least-squares window that sees another surface: the pyramid's disparities
+// over the window, in the left image and at the matched place in the right one, that depart
+// from the window's own plane (its disparity and the fitted shear along the rows) by more
+// than slack_px. Across an occlusion edge a window holds two surfaces and least squares
+// blends them into the disparity of neither (a point in mid-air beside a brow); the two-way
+// check passes such a point whenever the window's centre lies on one surface.
+double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right_map, cv::Point p,
+                         double disparity, const LsmResult& lsm, cv::Size half_window,
+                         double slack_px) {
+  const int step = 1 << left_map.level;
+  const double per_column = 1.0 - lsm.parameters[1], per_row = -lsm.parameters[2];
+  int looked = 0;
+  std::vector<double> off;
+  for (int y = -half_window.height; y <= half_window.height; y += step)
+    for (int x = -half_window.width; x <= half_window.width; x += step) {
+      const double plane = disparity + per_column * x + per_row * y;
+      const int right_u = static_cast<int>(std::lround(p.x + x - plane));
+      for (const int d : {MapDisparity(left_map, {p.x + x, p.y + y}),
+                          MapDisparity(right_map, {right_u, p.y + y})}) {
+        if (d < 0) continue;
+        ++looked;
+        if (std::abs(d - plane) > slack_px) off.push_back(d);
+      }
+    }
+  if (looked == 0 || off.empty()) return 0.0;
+  // The largest group of them within slack_px of one another: one surface, not scattered noise.
+  std::sort(off.begin(), off.end());
+  size_t most = 0;
+  for (size_t i = 0, j = 0; i < off.size(); ++i) {
+    while (off[i] - off[j] > 2 * slack_px) ++j;
+    most = std::max(most, i - j + 1);
+  }
+  return static_cast<double>(most) / looked;
+}
+
 }  // namespace
 
 std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Mat& left_rect,
@@ -244,6 +288,11 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     const double disparity = p.x - lsm.position_px.x();
     if (std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;
     ++s.consistent;
+    if (o.max_other_surface_share < 1.0 &&
+        OtherSurfaceShare(left_map, right_map, p, disparity, lsm, LsmHalfWindow(c, o, d, half),
+                          o.max_consistency_px + (1 << left_map.level)) > o.max_other_surface_share)
+      continue;
+    ++s.one_surface;
     if (o.min_spacing_m > 0.0) spacing.Take(p.x, p.y, approx);
     matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,
                        o.sigma_scale * lsm.sigma_x_px, lsm.correlation});

@@ -91,6 +91,10 @@ struct PairMatchOptions {
   // The right image's integer disparity may differ this much on the way back (the sigma
   // limit and the sub-pixel check catch what the slack lets through).
   int max_consistency_px = 2;
+  // A window of which more than this share sees another surface (the pyramid's disparities
+  // off its plane by more than max_consistency_px and the map's own pixel) is rejected: at an
+  // occlusion edge least squares blends the two surfaces. 1: never.
+  double max_other_surface_share = 0.1;
   // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
   // resampling correlate neighbouring pixels, so the reported sigma is this times it
   // (calibrated against the simulator's true ranges in bench_matching).
@@ -118,6 +122,8 @@ struct PairMatchOptions {
       {"farther points get the wide, low windows (0: never)", "m", 0, 100000});
     v("max_consistency_px", self.max_consistency_px,
       {"the way back may differ this much", "px", 0, 100});
+    v("max_other_surface_share", self.max_other_surface_share,
+      {"reject a window of which more than this share sees another surface", "", 0, 1});
     v("sigma_scale", self.sigma_scale,
       {"the LSM sigma times this (correlated pixels)", "", 0.01, 100});
     v.Group("enhance", self.enhance);
@@ -148,6 +154,7 @@ struct PairMatchSummary {
   int ncc_accepted = 0;
   int lsm_accepted = 0;
   int consistent = 0;
+  int one_surface = 0;  // consistent, and the window sees one surface
   // wall time of the steps (s)
   double enhance_s = 0.0, pyramid_s = 0.0, points_s = 0.0, matching_s = 0.0;
 };

@@ -191,11 +191,12 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
     w->pairs.push_back({m.index, m.pan_deg, m.tilt_deg, {}, {}});
     per_pair.push_back({{"pair", p.index},
                         {"interest_points", m.summary.points},
-                        {"matched", m.summary.consistent},
+                        {"matched", m.summary.one_surface},
+                        {"across_occlusion_edges", m.summary.consistent - m.summary.one_surface},
                         {"matching_s", m.summary.matching_s}});
-    if (m.summary.consistent < 1000)
+    if (m.summary.one_surface < 1000)
       s->warnings.push_back("pair " + std::to_string(p.index) + " gave only " +
-                            std::to_string(m.summary.consistent) + " matches");
+                            std::to_string(m.summary.one_surface) + " matches");
   }
   w->panorama = panorama_->Image();
   s->counts = {{"pairs", records.size()},

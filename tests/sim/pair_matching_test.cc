@@ -50,7 +50,8 @@ TEST(PairMatching, DisparitiesAgreeWithTheTrueSurface) {
   }
   ASSERT_GT(errors.size(), 25000u)
       << summary.points << " points, " << summary.ncc_accepted << " NCC, " << summary.lsm_accepted
-      << " LSM, " << summary.consistent << " consistent";
+      << " LSM, " << summary.consistent << " consistent, " << summary.one_surface
+      << " on one surface";
   std::sort(errors.begin(), errors.end());
   const double median = errors[errors.size() / 2];
   const double p95 = errors[errors.size() * 95 / 100];
