@@ -191,13 +191,15 @@ cv::Size LsmHalfWindow(const PairContext& c, const PairMatchOptions& o, int d, b
 // than slack_px. Across an occlusion edge a window holds two surfaces and least squares
 // blends them into the disparity of neither (a point in mid-air beside a brow); the two-way
 // check passes such a point whenever the window's centre lies on one surface.
+// (off: scratch space, reused from point to point.)
 double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right_map, cv::Point p,
                          double disparity, const LsmResult& lsm, cv::Size half_window,
-                         double slack_px) {
+                         double slack_px, std::vector<double>* off_scratch) {
   const int step = 1 << left_map.level;
   const double per_column = 1.0 - lsm.parameters[1], per_row = -lsm.parameters[2];
   int looked = 0;
-  std::vector<double> off;
+  std::vector<double>& off = *off_scratch;
+  off.clear();
   for (int y = -half_window.height; y <= half_window.height; y += step)
     for (int x = -half_window.width; x <= half_window.width; x += step) {
       const double plane = disparity + per_column * x + per_row * y;
@@ -257,6 +259,7 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   int last_d = 0;
   Eigen::Matrix2d last_shape;
   std::unordered_set<int64_t> half_taken;  // near points snapped to one even pixel: once
+  std::vector<double> off_surface;
   for (cv::Point p : points) {
     // The pyramid's disparity: for the spacing and for near or far.
     const int approx = MapDisparity(left_map, p);
@@ -290,7 +293,8 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     ++s.consistent;
     if (o.max_other_surface_share < 1.0 &&
         OtherSurfaceShare(left_map, right_map, p, disparity, lsm, LsmHalfWindow(c, o, d, half),
-                          o.max_consistency_px + (1 << left_map.level)) > o.max_other_surface_share)
+                          o.max_consistency_px + (1 << left_map.level),
+                          &off_surface) > o.max_other_surface_share)
       continue;
     ++s.one_surface;
     if (o.min_spacing_m > 0.0) spacing.Take(p.x, p.y, approx);
