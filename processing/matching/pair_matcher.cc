@@ -185,13 +185,14 @@ cv::Size LsmHalfWindow(const PairContext& c, const PairMatchOptions& o, int d, b
           scale * (w.half_height_px > 0 ? w.half_height_px : w.half_window_px)};
 }
 
-// The share of a least-squares window that sees another surface: the pyramid's disparities
-// over the window, in the left image and at the matched place in the right one, that depart
-// from the window's own plane (its disparity and the fitted shear along the rows) by more
-// than slack_px. Across an occlusion edge a window holds two surfaces and least squares
-// blends them into the disparity of neither (a point in mid-air beside a brow); the two-way
-// check passes such a point whenever the window's centre lies on one surface.
-// (off: scratch space, reused from point to point.)
+// The share of a least-squares window that sees another surface. The pyramid's disparities
+// over the window, in the left image and at the matched place in the right one, are compared
+// with the window's own plane (its disparity and the fitted shear along the rows); of those
+// departing by more than slack_px, the largest group within 2 slack_px of one another (one
+// surface, not scattered noise) over all compared. Across an occlusion edge a window holds two
+// surfaces and least squares blends them into the disparity of neither (a point in mid-air
+// beside a brow); the two-way check passes such a point whenever the window's centre lies on
+// one surface. (off_scratch: reused from point to point.)
 double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right_map, cv::Point p,
                          double disparity, const LsmResult& lsm, cv::Size half_window,
                          double slack_px, std::vector<double>* off_scratch) {
@@ -212,7 +213,6 @@ double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right
       }
     }
   if (looked == 0 || off.empty()) return 0.0;
-  // The largest group of them within slack_px of one another: one surface, not scattered noise.
   std::sort(off.begin(), off.end());
   size_t most = 0;
   for (size_t i = 0, j = 0; i < off.size(); ++i) {
