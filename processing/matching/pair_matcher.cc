@@ -164,13 +164,19 @@ PairContext PreparePair(const Rectification& r, const cv::Mat& left_rect, const 
   return c;
 }
 
+// The full-resolution least-squares options at integer disparity d: far points get the wide,
+// low windows.
+const LsmOptions& FullResolutionLsm(const PairContext& c, const PairMatchOptions& o, int d) {
+  return d < c.far_disparity ? o.far_lsm : o.lsm;
+}
+
 // Least squares from the integer disparity d: near points at half resolution (p even), far ones
 // with the wide, low windows. Positions and sigmas in full-resolution pixels.
 LsmResult FitSubPixel(const PairContext& c, const PairMatchOptions& o, cv::Point p, int d,
                       bool half, const Eigen::Matrix2d* shape) {
   if (!half)
     return MatchLsm(c.lsm_left, c.gradients, p, c.lsm_right, Eigen::Vector2d(p.x - d, p.y),
-                    d < c.far_disparity ? o.far_lsm : o.lsm, shape);
+                    FullResolutionLsm(c, o, d), shape);
   LsmResult lsm = MatchLsm(c.half_left, c.half_gradients, p / 2, c.half_right,
                            Eigen::Vector2d(p.x - d, p.y) / 2, c.half_lsm, shape);
   lsm.position_px *= 2, lsm.sigma_x_px *= 2, lsm.sigma_y_px *= 2;
@@ -179,7 +185,7 @@ LsmResult FitSubPixel(const PairContext& c, const PairMatchOptions& o, cv::Point
 
 // The least-squares window of a point, half its width and height in full-resolution pixels.
 cv::Size LsmHalfWindow(const PairContext& c, const PairMatchOptions& o, int d, bool half) {
-  const LsmOptions& w = half ? o.near_lsm : d < c.far_disparity ? o.far_lsm : o.lsm;
+  const LsmOptions& w = half ? o.near_lsm : FullResolutionLsm(c, o, d);
   const int scale = half ? 2 : 1;
   return {scale * w.half_window_px,
           scale * (w.half_height_px > 0 ? w.half_height_px : w.half_window_px)};
