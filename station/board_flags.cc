@@ -15,8 +15,8 @@ void AddBoardFlags(CLI::App* cmd, BoardFlags* flags) {
                       "a ChArUco board (5x5 markers) of SQUARESxSQUARES instead; partial views "
                       "count")
           ->excludes(flags->chessboard_flag);
-  cmd->add_option("--marker", flags->marker,
-                  "with --charuco: a marker's side, of a square (default 0.75)");
+  cmd->add_option("--marker", flags->marker, "with --charuco: a marker's side, of a square")
+      ->capture_default_str();
 }
 
 CalibrationBoard ParseBoardFlags(const BoardFlags& flags) {

@@ -19,7 +19,10 @@ namespace ts {
 
 struct CharucoOptions {
   ChessboardOptions corners;  // inner corners and the square's side
-  double marker = 0.75;       // a marker's side, in squares
+  // A marker's side, in squares. Half a square (OpenCV's tutorial board) leaves a quarter of a
+  // square between a corner and the markers beside it, where its refinement reaches along its
+  // edges (larger markers work, their corners are found less precisely).
+  double marker = 0.5;
   bool Check(std::string* why) const;
 };
 

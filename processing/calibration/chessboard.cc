@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgproc.hpp>
+
+#include "processing/calibration/saddle_refinement.h"
 
 namespace ts {
 
@@ -41,15 +42,19 @@ double ShortestSquareSide(const std::vector<cv::Point2f>& corners, const Chessbo
 
 // The sector-based detector's corners are biased on strongly tilted, anti-aliased boards (on
 // simulated boards tilted up to 50 deg: 44 of 3800 corners rejected as > 5 sigma0, the
-// principal distance 4 sigma off). The gradient-orthogonality refinement (cornerSubPix) is
-// unbiased for an X-junction under any affine view of it, as long as its window holds that
-// junction alone: half a window at most a third of the shortest square side, 5 px at most.
+// principal distance 4 sigma off). The gradient-orthogonality refinement (saddle_refinement.h)
+// is unbiased for an X-junction under any affine view of it, as long as its window holds that
+// junction alone: a third of the shortest square side. A corner it cannot fix keeps the
+// detector's place.
 void RefineCorners(const cv::Mat& grey, const ChessboardOptions& o,
-                   std::vector<cv::Point2f>* corners) {
-  const int half = std::min(5, static_cast<int>(ShortestSquareSide(*corners, o) / 3.0));
-  if (half < 2) return;
-  cv::cornerSubPix(grey, *corners, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 50, 1e-4));
+                   std::vector<cv::Point2f>* found) {
+  const double half = ShortestSquareSide(*found, o) / 3.0;
+  std::vector<Eigen::Vector2d> corners;
+  for (const cv::Point2f& p : *found) corners.emplace_back(p.x, p.y);
+  std::vector<bool> refined;
+  RefineSaddles(grey, std::vector<double>(corners.size(), half), {}, {}, &corners, &refined);
+  for (size_t k = 0; k < corners.size(); ++k)
+    if (refined[k]) (*found)[k] = cv::Point2f(corners[k].x(), corners[k].y());
 }
 
 }  // namespace
