@@ -160,6 +160,14 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
   return radiance;
 }
 
+BoardSessionOptions CharucoSession(BoardSessionOptions o) {
+  o.charuco = true;
+  o.beyond_share = 0.4;
+  o.min_distance_m = 1.0;
+  o.max_distance_m = 2.5;
+  return o;
+}
+
 std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
                                              const BoardSessionOptions& o) {
   std::mt19937_64 rng(Hash(seed, 0xB0A2D, 0x5E55));

@@ -9,9 +9,7 @@ namespace ts::sim {
 namespace {
 
 BoardSessionOptions BoardOf(const ServedCalibration& served) {
-  BoardSessionOptions o = served.board;
-  o.charuco = served.kind == "charuco";
-  return o;
+  return served.kind == "charuco" ? CharucoSession(served.board) : served.board;
 }
 
 }  // namespace

@@ -54,12 +54,8 @@ void RunRenderCalibration(const RenderArgs& args) {
   const auto station = Build(args.scene);
   const uint64_t seed = station->scene.seed;
   const bool board = args.calibration != "field";
-  sim::BoardSessionOptions board_options = args.board;
-  if (args.calibration == "charuco") {
-    // A ChArUco session puts boards off the frame's edges on purpose: their corners count.
-    board_options.charuco = true;
-    board_options.beyond_share = 0.4;
-  }
+  const sim::BoardSessionOptions board_options =
+      args.calibration == "charuco" ? sim::CharucoSession(args.board) : args.board;
   const Status s = board ? sim::WriteBoardSession(station->rig, seed, board_options, args.out,
                                                   args.scene.truth_dir)
                          : sim::WriteFieldSession(station->rig, seed, args.field, args.out,
