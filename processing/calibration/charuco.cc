@@ -84,33 +84,34 @@ LocalBoard LocalBoardAt(const CharucoOptions& o, const std::map<int, cv::Point2f
 // kept wrong.
 void RefineCharucoCorners(const cv::Mat& grey, const CharucoOptions& o,
                           const std::vector<std::vector<cv::Point2f>>& markers,
-                          std::vector<int>& ids, std::vector<cv::Point2f>* found) {
+                          std::vector<int>* ids, std::vector<cv::Point2f>* found) {
   double smallest_marker = 1e30;
   for (const auto& m : markers)
     for (int k = 0; k < 4; ++k)
       smallest_marker = std::min<double>(smallest_marker, cv::norm(m[k] - m[(k + 1) % 4]));
   const double margin_squares = 0.5 * (1.0 - o.marker);
   std::map<int, cv::Point2f> by_id;
-  for (size_t i = 0; i < ids.size(); ++i) by_id[ids[i]] = (*found)[i];
+  for (size_t i = 0; i < ids->size(); ++i) by_id[(*ids)[i]] = (*found)[i];
   std::vector<LocalBoard> local;
-  for (int id : ids) {
+  for (int id : *ids) {
     local.push_back(LocalBoardAt(o, by_id, id));
     if (!local.back().known) local.back().square_px = smallest_marker / o.marker;
   }
   std::vector<Eigen::Vector2d> corners;
   for (const cv::Point2f& p : *found) corners.emplace_back(p.x, p.y);
   const std::vector<Eigen::Vector2d> start = corners;
-  std::vector<bool> done(ids.size(), false);
+  std::vector<bool> done(ids->size(), false);
   SaddleRefinementOptions refinement;
   for (const double smoothing_px : {refinement.smoothing_px, 0.0}) {
     refinement.smoothing_px = smoothing_px;
     const double reach_px = MarkerReachPx(smoothing_px);
-    std::vector<double> half(ids.size(), 0.0);
-    for (size_t i = 0; i < ids.size(); ++i) {
+    std::vector<double> half(ids->size(), 0.0);
+    for (size_t i = 0; i < ids->size(); ++i) {
       const double margin_px = margin_squares * local[i].square_px - reach_px;
       if (done[i] || margin_px < kMinCrossPx) continue;
       half[i] = local[i].known ? local[i].square_px / 3.0 : margin_px;
     }
+    if (std::none_of(half.begin(), half.end(), [](double h) { return h > 0.0; })) continue;
     // Nearer than the margin (less the smoothing's reach) to one of the corner's edges.
     const SaddlePixelTest in_cross = [&](size_t i, const Eigen::Vector2d& p) {
       if (!local[i].known) return true;
@@ -121,7 +122,7 @@ void RefineCharucoCorners(const cv::Mat& grey, const CharucoOptions& o,
     std::vector<Eigen::Vector2d> pass = corners;
     std::vector<bool> refined;
     RefineSaddles(grey, half, in_cross, refinement, &pass, &refined);
-    for (size_t i = 0; i < ids.size(); ++i)
+    for (size_t i = 0; i < ids->size(); ++i)
       if (refined[i]) {
         corners[i] = pass[i];
         done[i] = true;
@@ -132,10 +133,10 @@ void RefineCharucoCorners(const cv::Mat& grey, const CharucoOptions& o,
   for (size_t i = 0; i < corners.size(); ++i)
     if (done[i] && (corners[i] - start[i]).norm() <= kMaxRefinementShiftPx) {
       kept_corners.emplace_back(corners[i].x(), corners[i].y());
-      kept_ids.push_back(ids[i]);
+      kept_ids.push_back((*ids)[i]);
     }
   *found = std::move(kept_corners);
-  ids = std::move(kept_ids);
+  *ids = std::move(kept_ids);
 }
 
 }  // namespace
@@ -185,7 +186,7 @@ std::optional<TargetView> DetectCharuco(const cv::Mat& grey, const CharucoOption
   // boards: +0.5, +0.5 px everywhere, to 0.1 px; OpenCV 4.6 adds 0.5 after its own
   // cornerSubPix, opencv/opencv#25539, mended upstream in 2026): that offset is removed first.
   for (cv::Point2f& c : corners) c -= cv::Point2f(0.5f, 0.5f);
-  RefineCharucoCorners(grey, o, markers, ids, &corners);
+  RefineCharucoCorners(grey, o, markers, &ids, &corners);
   if (static_cast<int>(ids.size()) < kMinCorners ||
       cv::aruco::testCharucoCornersCollinear(board, ids))
     return std::nullopt;

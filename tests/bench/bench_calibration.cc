@@ -25,8 +25,8 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "processing/calibration/calibration_board.h"
 #include "processing/calibration/camera_calibration.h"
-#include "processing/calibration/charuco.h"
 #include "processing/calibration/chessboard.h"
 #include "processing/calibration/field_calibration.h"
 #include "processing/calibration/opencv_camera.h"
@@ -237,25 +237,6 @@ void AddCommonPoints(const TargetView& l, const TargetView& r, TargetViews* left
   right_pairs->views.push_back(std::move(b));
 }
 
-// A view of the board in a rendered image: a chessboard's corners (whole boards only) or a
-// ChArUco board's (a part counts).
-std::optional<TargetView> DetectBoard(const cv::Mat& image, const sim::BoardSessionOptions& o,
-                                      const std::string& name, int placement) {
-  if (o.charuco) {
-    auto v = DetectCharuco(image, o.Charuco());
-    if (v) {
-      v->name = name;
-      v->placement = placement;
-    }
-    return v;
-  }
-  auto corners = DetectChessboard(image, o.Board());
-  if (!corners) return std::nullopt;
-  TargetView v{name, placement, {}, *corners};
-  for (size_t i = 0; i < corners->size(); ++i) v.ids.push_back(static_cast<int>(i));
-  return v;
-}
-
 // The corners' distances from their true projections (a chessboard's detector may number the
 // corners from the board's opposite corner: the nearer numbering is taken).
 void AddCornerErrors(const TargetView& view, const std::vector<Eigen::Vector3d>& target,
@@ -283,6 +264,8 @@ void Boards(const std::string& kind, const sim::BoardSessionOptions& o, bool tar
             bench::Table* table) {
   StereoErrors ours, opencv;
   std::vector<double> corner_errors;
+  CalibrationBoard board{o.Board(), std::nullopt};
+  if (o.charuco) board.charuco = o.Charuco();
   constexpr int kSeeds = 10;
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const sim::SimRig rig = sim::MakeSimRig(seed, 1.5);
@@ -297,8 +280,13 @@ void Boards(const std::string& kind, const sim::BoardSessionOptions& o, bool tar
     }
     for (size_t k = 0; k < session.size(); ++k) {
       const int placement = static_cast<int>(k);
-      auto l = DetectBoard(session[k].left, o, session[k].name, placement);
-      auto r = DetectBoard(session[k].right, o, session[k].name, placement);
+      auto l = DetectBoard(session[k].left, board);
+      auto r = DetectBoard(session[k].right, board);
+      for (auto* v : {&l, &r})
+        if (*v) {
+          (*v)->name = session[k].name;
+          (*v)->placement = placement;
+        }
       if (l) left.views.push_back(*l);
       if (r) right.views.push_back(*r);
       if (l && session[k].board && !session[k].blurred)
