@@ -23,8 +23,8 @@ std::string BoardFlagsOf(const CalibrationBoard& b) {
   if (b.charuco)
     return fmt::format("--charuco {}x{} --marker {} --square {}", b.charuco->corners.columns + 1,
                        b.charuco->corners.rows + 1, b.charuco->marker, b.charuco->corners.square);
-  return fmt::format("--chessboard {}x{} --square {}", b.chessboard.columns, b.chessboard.rows,
-                     b.chessboard.square);
+  return fmt::format("--chessboard {}x{} --square {}{}", b.chessboard.columns, b.chessboard.rows,
+                     b.chessboard.square, b.chessboard.circle_markers ? " --circle-markers" : "");
 }
 
 nlohmann::json CoverageJson(const FrameCoverage& c) {

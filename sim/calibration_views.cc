@@ -17,14 +17,42 @@
 namespace ts::sim {
 namespace {
 
+// A printed board: its squares, and what is drawn in them.
+struct BoardPrint {
+  ChessboardOptions board;
+  cv::Mat charuco;  // a ChArUco board as DrawCharucoBoard draws it; empty: a chessboard
+  std::vector<Eigen::Vector2i> circle_markers;  // the squares with one (CircleMarkerCells)
+};
+
+BoardPrint BoardPrintOf(const ChessboardOptions& board, const cv::Mat& charuco) {
+  BoardPrint print{board, charuco, {}};
+  if (board.circle_markers && charuco.empty())
+    for (const Eigen::Vector2i& cell : CircleMarkerCells(board))
+      print.circle_markers.push_back(cell);
+  return print;
+}
+
+// A chessboard square's radiance: black or white, or inverted within a circle marker.
+float SquareRadiance(const BoardPrint& p, double x, double y, double i, double j) {
+  const bool black = static_cast<int64_t>(i + j) % 2 == 0;
+  for (const Eigen::Vector2i& cell : p.circle_markers)
+    if (cell.x() == i && cell.y() == j &&
+        std::hypot(x / p.board.square - i - 0.5, y / p.board.square - j - 0.5) <
+            0.5 * kCircleMarkerDiameter)
+      return black ? kTargetWhite : kTargetBlack;
+  return black ? kTargetBlack : kTargetWhite;
+}
+
 // The board's radiance at a point of its plane: squares from one square before the first inner
 // corner to one after the last, a white margin of one square around them, a grey wall beyond.
 // A ChArUco board's squares come from its drawn image (nearest pixel).
-float BoardRadiance(const ChessboardOptions& b, const cv::Mat& charuco, double x, double y) {
+float BoardRadiance(const BoardPrint& p, double x, double y) {
+  const ChessboardOptions& b = p.board;
+  const cv::Mat& charuco = p.charuco;
   const double i = std::floor(x / b.square), j = std::floor(y / b.square);
   if (i < -2 || j < -2 || i > b.columns || j > b.rows) return kTargetBackground;
   if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return kTargetWhite;
-  if (charuco.empty()) return (static_cast<int64_t>(i + j) % 2 == 0) ? kTargetBlack : kTargetWhite;
+  if (charuco.empty()) return SquareRadiance(p, x, y, i, j);
   const double per_square = static_cast<double>(charuco.cols) / (b.columns + 1);
   const int u =
       std::clamp(static_cast<int>((x / b.square + 1.0) * per_square), 0, charuco.cols - 1);
@@ -45,10 +73,13 @@ Eigen::Isometry3d PlaceBoard(std::mt19937_64& rng, const BoardSessionOptions& o,
   const double scale = camera.principal_distance_px / distance;
   const double half_w = 0.5 * (b.columns + 3) * b.square * scale;
   const double half_h = 0.5 * (b.rows + 3) * b.square * scale;
-  const double room_x =
-      beyond ? 0.6 * camera.width_px : reach * std::max(0.0, 0.5 * camera.width_px - half_w);
-  const double room_y =
-      beyond ? 0.6 * camera.height_px : reach * std::max(0.0, 0.5 * camera.height_px - half_h);
+  // A board running off the frame has its centre up to a tenth of the frame beyond the edge,
+  // or, a board named by its circle markers, a tenth within (the markers are at its centre).
+  const double beyond_room = o.circle_markers ? 0.4 : 0.6;
+  const double room_x = beyond ? beyond_room * camera.width_px
+                               : reach * std::max(0.0, 0.5 * camera.width_px - half_w);
+  const double room_y = beyond ? beyond_room * camera.height_px
+                               : reach * std::max(0.0, 0.5 * camera.height_px - half_h);
   // A hand's placement is not exact: a fifth of the room about the anchor.
   const auto towards = [&](double a) { return std::clamp(a + 0.2 * (2 * u(rng) - 1), -1.0, 1.0); };
   const double px = 0.5 * camera.width_px + room_x * towards(anchor.x());
@@ -120,6 +151,22 @@ bool BoardInside(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera
   return true;
 }
 
+// The board's circle markers, with a square about them, inside the frame: the part of the
+// board in view can be numbered there (a team holds such a board so that the capture finds it
+// in both images).
+bool MarkersInside(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
+                   const ChessboardOptions& b) {
+  const CameraModel model(camera);
+  const Eigen::Vector2i origin = CircleMarkerCells(b)[0];
+  for (const int dc : {-1, 3})
+    for (const int dr : {-1, 3}) {
+      const Eigen::Vector3d corner((origin.x() + dc) * b.square, (origin.y() + dr) * b.square, 0);
+      Eigen::Vector2d pixel;
+      if (!model.Project(camera_from_board * corner, &pixel) || !model.InImage(pixel)) return false;
+    }
+  return true;
+}
+
 }  // namespace
 
 bool BoardSessionOptions::Check(std::string* why) const {
@@ -128,7 +175,11 @@ bool BoardSessionOptions::Check(std::string* why) const {
     if (why) *why = "min_distance_m must not exceed max_distance_m";
     return false;
   }
-  return true;
+  if (charuco && circle_markers) {
+    if (why) *why = "a board is either a ChArUco board or one with circle markers";
+    return false;
+  }
+  return Board().Check(why);
 }
 
 cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d& camera_from_board,
@@ -140,6 +191,7 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
   cv::Mat radiance(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(kTargetBackground));
   if (!board_in_view) return radiance;
   const cv::Rect extent = BoardExtent(model, camera_from_board, board);
+  const BoardPrint print = BoardPrintOf(board, charuco_image);
   const int s = supersampling;
   cv::parallel_for_(cv::Range(extent.y, extent.y + extent.height), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y)
@@ -150,8 +202,7 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
             const Eigen::Vector2d pixel(x - 0.5 + (i + 0.5) / s, y - 0.5 + (j + 0.5) / s);
             const Eigen::Vector3d d = board_from_camera.linear() * model.RayFromPixel(pixel);
             const double t = -origin.z() / d.z();
-            sum += t > 0.0 ? BoardRadiance(board, charuco_image, origin.x() + t * d.x(),
-                                           origin.y() + t * d.y())
+            sum += t > 0.0 ? BoardRadiance(print, origin.x() + t * d.x(), origin.y() + t * d.y())
                            : kTargetBackground;
           }
         radiance.at<float>(y, x) = static_cast<float>(sum / (s * s));
@@ -162,10 +213,23 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
 
 BoardSessionOptions CharucoSession(BoardSessionOptions o) {
   o.charuco = true;
+  o.circle_markers = false;
   o.beyond_share = 0.4;
   o.min_distance_m = 1.0;
   o.max_distance_m = 2.5;
   return o;
+}
+
+BoardSessionOptions MarkedChessboardSession(BoardSessionOptions o) {
+  o = CharucoSession(o);
+  o.charuco = false;
+  o.circle_markers = true;
+  return o;
+}
+
+BoardSessionOptions BoardSessionOf(const std::string& kind, const BoardSessionOptions& o) {
+  if (kind == "charuco") return CharucoSession(o);
+  return o.circle_markers ? MarkedChessboardSession(o) : o;
 }
 
 std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
@@ -189,14 +253,17 @@ std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,
     const bool aim_right = (k / 9) % 2 == 1;
     const Eigen::Isometry3d left_from_aim =
         aim_right ? right_from_left.inverse() : Eigen::Isometry3d::Identity();
+    // A board numbered by its circle markers must have them in both frames.
+    const auto in_both = [&](const auto& inside) {
+      return inside(truth.left, p.left_from_board, o.Board()) &&
+             inside(truth.right, right_from_left * p.left_from_board, o.Board());
+    };
     constexpr int kAttempts = 50;
     for (int attempt = 0; attempt < kAttempts; ++attempt) {
       p.left_from_board =
           left_from_aim * PlaceBoard(rng, o, aim_right ? truth.right : truth.left, anchor, beyond,
                                      1.0 - static_cast<double>(attempt) / kAttempts);
-      if (beyond || (BoardInside(truth.left, p.left_from_board, o.Board()) &&
-                     BoardInside(truth.right, right_from_left * p.left_from_board, o.Board())))
-        break;
+      if ((!o.circle_markers || in_both(MarkersInside)) && (beyond || in_both(BoardInside))) break;
     }
     p.board = u(rng) >= o.empty_share;
     p.blurred = u(rng) < o.blurred_share;
@@ -265,14 +332,16 @@ Status WriteBoardSession(const SimRig& rig, uint64_t seed, const BoardSessionOpt
     std::snprintf(board, sizeof(board), "--charuco %dx%d --marker %g", o.columns + 1, o.rows + 1,
                   o.marker);
   else
-    std::snprintf(board, sizeof(board), "--chessboard %dx%d", o.columns, o.rows);
+    std::snprintf(board, sizeof(board), "--chessboard %dx%d%s", o.columns, o.rows,
+                  o.circle_markers ? " --circle-markers" : "");
   const nlohmann::json description = {
       {"board",
        {{"columns", o.columns},
         {"rows", o.rows},
         {"square_m", o.square_m},
         {"charuco", o.charuco},
-        {"marker", o.marker}}},
+        {"marker", o.marker},
+        {"circle_markers", o.circle_markers}}},
       {"placements", o.placements},
       {"calibrate", "topostation calibrate stereo --left '" + dir + "/left/*.png' --right '" + dir +
                         "/right/*.png' " + board + " --square " + std::to_string(o.square_m) +

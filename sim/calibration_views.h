@@ -37,8 +37,10 @@ struct BoardSessionOptions {
   // A ChArUco board (charuco.h) of the same inner corners: its markers a share of a square.
   bool charuco = false;
   double marker = CharucoOptions{}.marker;
+  // A chessboard with OpenCV's three circle markers (chessboard.h): partial views count too.
+  bool circle_markers = false;
   // Of the placements, boards held running off the frame (a ChArUco board's corners there
-  // still count).
+  // still count, and a chessboard's with circle markers in view).
   double beyond_share = 0.125;
   double blurred_share = 0.1;  // of the placements, blurred by 1.5 px
   double empty_share = 0.05;   // of the placements, no board in view
@@ -55,6 +57,7 @@ struct BoardSessionOptions {
     v("max_tilt_deg", self.max_tilt_deg, {"board tilt from facing the rig, at most", "deg", 0, 70});
     v("charuco", self.charuco, {"a ChArUco board instead of a chessboard"});
     v("marker", self.marker, {"ChArUco marker side, of a square", "", 0.1, 0.99});
+    v("circle_markers", self.circle_markers, {"a chessboard with three circle markers"});
     v("beyond_share", self.beyond_share, {"share of placements running off the frame", "", 0, 1});
     v("blurred_share", self.blurred_share, {"share of placements blurred", "", 0, 1});
     v("empty_share", self.empty_share, {"share of placements without a board", "", 0, 1});
@@ -62,8 +65,8 @@ struct BoardSessionOptions {
     v("exposure_us", self.exposure_us, {"exposure time", "us", 10, 1e6});
   }
   bool Check(std::string* why) const;
-  ChessboardOptions Board() const { return {columns, rows, square_m}; }
-  CharucoOptions Charuco() const { return {Board(), marker}; }
+  ChessboardOptions Board() const { return {columns, rows, square_m, circle_markers}; }
+  CharucoOptions Charuco() const { return {{columns, rows, square_m}, marker}; }
 };
 
 struct BoardPlacement {
@@ -80,6 +83,11 @@ struct BoardPlacement {
 // fixes the principal point (at 1.5-3 m the principal point is found to 0.33 px, the relative
 // angles to 0.011 deg, over ten seeds; at 1-2.5 m to 0.08 px and 0.003 deg).
 BoardSessionOptions CharucoSession(BoardSessionOptions options = {});
+// A chessboard with circle markers is held as a ChArUco board is: a part of it counts.
+BoardSessionOptions MarkedChessboardSession(BoardSessionOptions options = {});
+// The session a team takes of a board of this kind ("chessboard", "charuco"; a chessboard
+// with circle markers when the options say so).
+BoardSessionOptions BoardSessionOf(const std::string& kind, const BoardSessionOptions& options);
 
 // The placements for the rig, deterministic for the seed, without their images.
 std::vector<BoardPlacement> PlanBoardSession(const SimRig& rig, uint64_t seed,

@@ -6,14 +6,6 @@
 #include "processing/io/station_manifest.h"
 
 namespace ts::sim {
-namespace {
-
-BoardSessionOptions BoardOf(const ServedCalibration& served) {
-  return served.kind == "charuco" ? CharucoSession(served.board) : served.board;
-}
-
-}  // namespace
-
 void ServeCalibrationTargets(const SimRig& rig, uint64_t seed, const ServedCalibration& served,
                              SimulatedCameraOptions* left, SimulatedCameraOptions* right) {
   if (served.kind.empty()) return;
@@ -30,7 +22,7 @@ void ServeCalibrationTargets(const SimRig& rig, uint64_t seed, const ServedCalib
       camera->target_views = 1;
       continue;
     }
-    const BoardSessionOptions o = BoardOf(served);
+    const BoardSessionOptions o = BoardSessionOf(served.kind, served.board);
     auto placements =
         std::make_shared<const std::vector<BoardPlacement>>(PlanBoardSession(rig, seed, o));
     auto charuco = std::make_shared<const cv::Mat>(CharucoImageOf(o));

@@ -10,11 +10,14 @@ void AddBoardFlags(CLI::App* cmd, BoardFlags* flags) {
       cmd->add_option("--chessboard", flags->chessboard_size,
                       "inner corners COLUMNSxROWS (default " + flags->chessboard_size + ")");
   AddDeclaredOption(cmd, "--square", flags->chessboard, "square");
+  flags->circle_markers_flag =
+      AddDeclaredOption(cmd, "--circle-markers", flags->chessboard, "circle_markers");
   flags->charuco_flag =
       cmd->add_option("--charuco", flags->charuco_size,
                       "a ChArUco board (5x5 markers) of SQUARESxSQUARES instead; partial views "
                       "count")
-          ->excludes(flags->chessboard_flag);
+          ->excludes(flags->chessboard_flag)
+          ->excludes(flags->circle_markers_flag);
   cmd->add_option("--marker", flags->marker, "with --charuco: a marker's side, of a square")
       ->capture_default_str();
 }

@@ -15,9 +15,10 @@ struct BoardFlags {
   double marker = CharucoOptions{}.marker;
   CLI::Option* chessboard_flag = nullptr;
   CLI::Option* charuco_flag = nullptr;
+  CLI::Option* circle_markers_flag = nullptr;
 };
 
-// --chessboard, --square, --charuco, --marker.
+// --chessboard, --square, --circle-markers, --charuco, --marker.
 void AddBoardFlags(CLI::App* cmd, BoardFlags* flags);
 // The board the flags name; a CommandError naming the flag when they do not.
 CalibrationBoard ParseBoardFlags(const BoardFlags& flags);

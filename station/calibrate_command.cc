@@ -75,7 +75,9 @@ TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateA
     } else {
       skipped->push_back(file);
       Log().warn("{}: {} not found{}; view skipped", file, args.board.Describe(),
-                 args.board.charuco ? " (fewer than 6 corners)" : "");
+                 args.board.charuco                     ? " (fewer than 6 corners)"
+                 : args.board.chessboard.circle_markers ? " (its circle markers not in view)"
+                                                        : "");
     }
   }
   return views;
@@ -454,7 +456,8 @@ void AddAdjustmentFlags(CLI::App* cmd, CalibrateArgs* args) {
   cmd->add_option("--control-field", args->control_field,
                   "calibrate at a control field instead: its targets (FIELD.yaml)")
       ->excludes(args->board_flags.chessboard_flag)
-      ->excludes(args->board_flags.charuco_flag);
+      ->excludes(args->board_flags.charuco_flag)
+      ->excludes(args->board_flags.circle_markers_flag);
   cmd->add_option("--marks", args->marks,
                   "with --control-field: targets measured by hand (MARKS.yaml), 4 or more in "
                   "each stage pose's left or right image");

@@ -54,8 +54,7 @@ void RunRenderCalibration(const RenderArgs& args) {
   const auto station = Build(args.scene);
   const uint64_t seed = station->scene.seed;
   const bool board = args.calibration != "field";
-  const sim::BoardSessionOptions board_options =
-      args.calibration == "charuco" ? sim::CharucoSession(args.board) : args.board;
+  const sim::BoardSessionOptions board_options = sim::BoardSessionOf(args.calibration, args.board);
   const Status s = board ? sim::WriteBoardSession(station->rig, seed, board_options, args.out,
                                                   args.scene.truth_dir)
                          : sim::WriteFieldSession(station->rig, seed, args.field, args.out,
@@ -158,6 +157,7 @@ void AddSimCommand(CLI::App& app) {
   AddDeclaredOption(r, "--board-columns", render->board, "columns");
   AddDeclaredOption(r, "--board-rows", render->board, "rows");
   AddDeclaredOption(r, "--square-m", render->board, "square_m");
+  AddDeclaredOption(r, "--board-circle-markers", render->board, "circle_markers");
   AddDeclaredOption(r, "--field-targets", render->field, "targets");
   AddDeclaredOption(r, "--field-pans", render->field, "poses.pans");
   AddDeclaredOption(r, "--field-tilts", render->field, "poses.tilts");
@@ -185,6 +185,7 @@ void AddSimCommand(CLI::App& app) {
                 "file and hand marks in --truth)")
       ->check(CLI::IsMember({"chessboard", "charuco", "field"}));
   AddDeclaredOption(v, "--placements", serve->serve, "calibration.board.placements");
+  AddDeclaredOption(v, "--board-circle-markers", serve->serve, "calibration.board.circle_markers");
   v->add_flag("--prerender", serve->prerender,
               "render the views of the design plan's poses before serving, so that a capture "
               "with config/sim-rig.yaml is served at once (to time the capture alone)");

@@ -21,8 +21,9 @@ struct CalibrationBoard {
   std::string Describe() const;
 };
 
-// The board's corners in a grey image (CV_8UC1) with their ids: a chessboard's all or none, a
-// ChArUco board's any six or more; none when the board is not found.
+// The board's corners in a grey image (CV_8UC1) with their ids: a plain chessboard's all or none,
+// one with circle markers the part about its markers, a ChArUco board's any six or more; none
+// when the board is not found.
 std::optional<TargetView> DetectBoard(const cv::Mat& grey, const CalibrationBoard& board);
 
 }  // namespace ts

@@ -392,6 +392,7 @@ int main(int argc, char** argv) {
   Field(&table);
   Boards("chessboards", sim::BoardSessionOptions{}, false, &table);
   Boards("ChArUco boards", sim::CharucoSession(), true, &table);
+  Boards("chessboards with circle markers", sim::MarkedChessboardSession(), true, &table);
   Hills(&table);
   return table.Finish(argc, argv);
 }

@@ -30,8 +30,8 @@ inline void DetectSamplePairs(TargetViews* left, TargetViews* right) {
     left->height_px = right->height_px = left_grey.rows;
     auto lc = DetectChessboard(left_grey, board), rc = DetectChessboard(right_grey, board);
     if (!lc || !rc) continue;
-    left->AddFullView(l, i, *lc);
-    right->AddFullView(r, i, *rc);
+    left->AddFullView(l, i, lc->pixels);
+    right->AddFullView(r, i, rc->pixels);
   }
 }
 

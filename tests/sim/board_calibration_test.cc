@@ -12,6 +12,7 @@
 
 #include "processing/calibration/camera_calibration.h"
 #include "processing/calibration/charuco.h"
+#include "processing/calibration/chessboard.h"
 #include "processing/geometry/rotation.h"
 #include "sim/calibration_views.h"
 #include "tests/common/calibration_errors.h"
@@ -32,7 +33,7 @@ Detected Detect(const std::vector<BoardPlacement>& session, const ChessboardOpti
     v->width_px = camera.width_px;
     v->height_px = camera.height_px;
   }
-  std::vector<std::optional<std::vector<Eigen::Vector2d>>> found(2 * session.size());
+  std::vector<std::optional<TargetView>> found(2 * session.size());
   cv::parallel_for_(cv::Range(0, static_cast<int>(found.size())), [&](const cv::Range& r) {
     for (int k = r.start; k < r.end; ++k)
       found[k] = DetectChessboard(k % 2 ? session[k / 2].right : session[k / 2].left, board);
@@ -43,7 +44,7 @@ Detected Detect(const std::vector<BoardPlacement>& session, const ChessboardOpti
       continue;
     }
     const int placement = static_cast<int>(k / 2);
-    (k % 2 ? d.right : d.left).AddFullView(session[placement].name, placement, *found[k]);
+    (k % 2 ? d.right : d.left).AddFullView(session[placement].name, placement, found[k]->pixels);
   }
   return d;
 }
@@ -166,6 +167,48 @@ TEST(SimulatedCharuco, PartialBoardsCountAndTheRigIsRecovered) {
       std::abs(s->left.intrinsics.principal_distance_px / truth.left.principal_distance_px - 1.0),
       1e-3);
   EXPECT_LT(std::abs(s->baseline - truth.baseline_m), 5e-4);
+}
+
+// A chessboard with circle markers held across the frame's edges (as sim::MarkedChessboardSession
+// holds it): the part in view is found when its markers are, each corner with the id of the
+// true corner it is (a wrong id is a square, tens of pixels, away), while a plain board's
+// detector finds nothing in those views. board_lattice_test.cc checks the numbering in every
+// orientation and the refusal of false lattices.
+TEST(SimulatedMarkedChessboard, PartsAcrossTheFrameEdgeHaveTheirTrueIds) {
+  const uint64_t seed = 4;
+  const SimRig rig = MakeSimRig(seed, 1.5);
+  BoardSessionOptions options = MarkedChessboardSession();
+  options.placements = 5;
+  options.supersampling = 3;
+  options.blurred_share = 0.0;
+  const std::vector<BoardPlacement> session = RenderBoardSession(rig, seed, options);
+  const CameraModel model(rig.truth.rig.left);
+  const std::vector<Eigen::Vector3d> target = ChessboardCorners(options.Board());
+  ChessboardOptions plain = options.Board();
+  plain.circle_markers = false;
+  int partial = 0, plain_found = 0;
+  std::vector<double> errors;
+  for (const BoardPlacement& p : session) {
+    const std::optional<TargetView> view = DetectChessboard(p.left, options.Board());
+    if (!view) continue;
+    ASSERT_EQ(view->ids.size(), view->pixels.size());
+    for (size_t i = 0; i < view->ids.size(); ++i) {
+      Eigen::Vector2d projected;
+      ASSERT_TRUE(model.Project(p.left_from_board * target[view->ids[i]], &projected));
+      errors.push_back((view->pixels[i] - projected).norm());
+    }
+    if (view->ids.size() == target.size()) continue;
+    ++partial;
+    plain_found += DetectChessboard(p.left, plain).has_value();
+  }
+  ASSERT_FALSE(errors.empty());
+  std::sort(errors.begin(), errors.end());
+  std::printf("%d partial views of %zu placements; corners' median error %.3f px, worst %.3f px\n",
+              partial, session.size(), errors[errors.size() / 2], errors.back());
+  EXPECT_GE(partial, 2) << "boards running off the frame count";
+  EXPECT_EQ(plain_found, 0) << "a plain board is found whole or not at all";
+  EXPECT_LT(errors.back(), 1.0) << "every corner has its own id";
+  EXPECT_LT(errors[errors.size() / 2], 0.05);
 }
 
 }  // namespace

@@ -42,25 +42,29 @@ TEST(CalibrateCommand, RightCameraFromTheRealBoardsWritesItsFile) {
   EXPECT_DOUBLE_EQ(camera->principal_point_x_px, j["cx"].get<double>());
 }
 
-// The calibration workflow on the simulator: a rendered chessboard session of a station's true
-// rig, calibrated by the command a field team runs, compared with the truth the session wrote.
+// The calibration workflow on the simulator: a rendered session of a station's true rig, a
+// chessboard with circle markers (the plain board's path is the real boards' tests'),
+// calibrated by the command a field team runs, compared with the truth the session wrote.
 TEST(CalibrateCommand, SimulatedChessboardSessionGivesTheTrueRig) {
   testing::TempDir dir;
   const std::string views = dir / "views", truth = dir / "truth", out = dir / "cal.yaml";
   const auto render = RunCommand(kExe + " sim render --calibration chessboard --seed 3 " +
-                                 "--placements 10 --out " + views + " --truth " + truth + " 2>&1");
+                                 "--board-circle-markers --placements 10 --out " + views +
+                                 " --truth " + truth + " 2>&1");
   ASSERT_EQ(render.exit_code, 0) << render.out;
   const auto session = nlohmann::json::parse(std::ifstream(views + "/session.json"));
   EXPECT_EQ(session["board"]["columns"], 16);
+  EXPECT_NE(session["calibrate"].get<std::string>().find("--chessboard 16x11 --circle-markers"),
+            std::string::npos);
   const auto placements =
       nlohmann::json::parse(std::ifstream(truth + "/board_session.json"))["placements"];
   ASSERT_EQ(placements.size(), 10u);
   for (const char* side : {"left", "right"})
     EXPECT_TRUE(std::filesystem::exists(views + "/" + side + "/10.png")) << side;
-  const auto r =
-      RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' --right '" + views +
-                 "/right/*.png' --chessboard 16x11 --square 0.07 " + "--stage-from " + truth +
-                 "/calibration.yaml --out " + out + " --json 2>/dev/null");
+  const auto r = RunCommand(
+      kExe + " calibrate stereo --left '" + views + "/left/*.png' --right '" + views +
+      "/right/*.png' --chessboard 16x11 --circle-markers --square 0.07 " + "--stage-from " + truth +
+      "/calibration.yaml --out " + out + " --json 2>/dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   const Result<Calibration> true_rig = LoadCalibrationYaml(truth + "/calibration.yaml");
@@ -101,6 +105,11 @@ TEST(CalibrateCommand, SimulatedCharucoSessionGivesTheTrueRig) {
   EXPECT_NEAR(j["left"]["fy"].get<double>() / true_rig->rig.left.principal_distance_px, 1.0, 1e-3);
   EXPECT_NEAR(j["stereo"]["baseline"].get<double>(), true_rig->rig.baseline_m, 5e-4);
   EXPECT_GT(j["left"]["views_used"].get<int>(), 8) << "partial boards count";
+  const auto both = RunCommand(kExe + " calibrate camera --images '" + views +
+                               "/left/*.png' --charuco 17x12 --circle-markers --out " +
+                               (dir / "bad.yaml") + " 2>&1");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.out.find("--circle-markers"), std::string::npos) << both.out;
   const auto bad =
       RunCommand(kExe + " calibrate stereo --left '" + views + "/left/*.png' " + "--right '" +
                  views + "/right/*.png' --charuco 2x12 --out " + (dir / "bad.yaml") + " 2>&1");

@@ -28,7 +28,7 @@ TargetViews DetectViews(const std::string& side, const ChessboardOptions& board)
     const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
     views.width_px = grey.cols;
     views.height_px = grey.rows;
-    if (auto corners = DetectChessboard(grey, board)) views.AddFullView(name, i, *corners);
+    if (auto corners = DetectChessboard(grey, board)) views.AddFullView(name, i, corners->pixels);
   }
   return views;
 }
