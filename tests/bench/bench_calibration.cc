@@ -384,15 +384,26 @@ void Hills(bench::Table* table) {
   }
 }
 
+// --only SET,...: the sets to run (real, field, chessboards, charuco, marked, hills); all by
+// default.
+bool Wanted(int argc, char** argv, const std::string& set) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--only")
+      return ("," + std::string(argv[i + 1]) + ",").find("," + set + ",") != std::string::npos;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bench::Table table("bench_calibration: ours beside OpenCV and mrcal; the simulator's targets");
-  RealSet(&table);
-  Field(&table);
-  Boards("chessboards", sim::BoardSessionOptions{}, false, &table);
-  Boards("ChArUco boards", sim::CharucoSession(), true, &table);
-  Boards("chessboards with circle markers", sim::MarkedChessboardSession(), true, &table);
-  Hills(&table);
+  if (Wanted(argc, argv, "real")) RealSet(&table);
+  if (Wanted(argc, argv, "field")) Field(&table);
+  if (Wanted(argc, argv, "chessboards"))
+    Boards("chessboards", sim::BoardSessionOptions{}, false, &table);
+  if (Wanted(argc, argv, "charuco")) Boards("ChArUco boards", sim::CharucoSession(), true, &table);
+  if (Wanted(argc, argv, "marked"))
+    Boards("chessboards with circle markers", sim::MarkedChessboardSession(), true, &table);
+  if (Wanted(argc, argv, "hills")) Hills(&table);
   return table.Finish(argc, argv);
 }
