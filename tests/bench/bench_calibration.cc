@@ -256,18 +256,17 @@ void AddCornerErrors(const TargetView& view, const std::vector<Eigen::Vector3d>&
     errors->push_back((projected[i] - view.pixels[reversed < direct ? n - 1 - i : i]).norm());
 }
 
-// Rendered board sessions, seeds 1-10: our calibration on every view of each camera against
-// issue 20's targets (`targets`), beside OpenCV's calibrateCamera on the same views and
+// Rendered board sessions (seeds 1-10 unless --seeds): our calibration on every view of each camera
+// against issue 20's targets (`targets`), beside OpenCV's calibrateCamera on the same views and
 // stereoCalibrate on the points both images of a pair saw; the corners' error against their
 // true projections (sharp views of the left camera).
 void Boards(const std::string& kind, const sim::BoardSessionOptions& o, bool targets,
-            bench::Table* table) {
+            const std::vector<uint64_t>& seeds, bench::Table* table) {
   StereoErrors ours, opencv;
   std::vector<double> corner_errors;
   CalibrationBoard board{o.Board(), std::nullopt};
   if (o.charuco) board.charuco = o.Charuco();
-  constexpr int kSeeds = 10;
-  for (int seed = 1; seed <= kSeeds; ++seed) {
+  for (const uint64_t seed : seeds) {
     const sim::SimRig rig = sim::MakeSimRig(seed, 1.5);
     const std::vector<sim::BoardPlacement> session = sim::RenderBoardSession(rig, seed, o);
     // Each camera's views (ours, OpenCV's calibrateCamera) and the points of the pairs both saw
@@ -320,7 +319,8 @@ void Boards(const std::string& kind, const sim::BoardSessionOptions& o, bool tar
                                  DegFromRad(opk.kappa_rad));
     for (int j = 0; j < 3; ++j) opencv.angles.Add(angles[j] - RelativeAnglesDeg(truth)[j], 1.0);
   }
-  AddErrors(kind + ", 10 seeds, ours: ", ours, targets, table);
+  const std::string over = ", " + std::to_string(seeds.size()) + " seeds, ";
+  AddErrors(kind + over + "ours: ", ours, targets, table);
   std::sort(corner_errors.begin(), corner_errors.end());
   double sum = 0.0;
   for (double e : corner_errors) sum += e * e;
@@ -329,7 +329,7 @@ void Boards(const std::string& kind, const sim::BoardSessionOptions& o, bool tar
   table->Add({kind + ": corners' 95th percentile error",
               corner_errors[corner_errors.size() * 95 / 100], "px", ""});
   const auto row = [&](const std::string& what, double v, const char* unit) {
-    table->Add({kind + ", 10 seeds, OpenCV: " + what, v, unit, ""});
+    table->Add({kind + over + "OpenCV: " + what, v, unit, ""});
   };
   row("largest c error", 100 * opencv.c_rel.MaxAbs(), "%");
   row("largest principal point error", opencv.pp.MaxAbs(), "px");
@@ -385,7 +385,7 @@ void Hills(bench::Table* table) {
 }
 
 // --only SET,...: the sets to run (real, field, chessboards, charuco, marked, hills); all by
-// default.
+// default. --seeds 1,2,...: the board sessions' seeds (1-10 by default).
 bool Wanted(int argc, char** argv, const std::string& set) {
   for (int i = 1; i + 1 < argc; ++i)
     if (std::string(argv[i]) == "--only")
@@ -399,11 +399,14 @@ int main(int argc, char** argv) {
   bench::Table table("bench_calibration: ours beside OpenCV and mrcal; the simulator's targets");
   if (Wanted(argc, argv, "real")) RealSet(&table);
   if (Wanted(argc, argv, "field")) Field(&table);
+  std::vector<uint64_t> seeds = bench::SeedsArgument(argc, argv);
+  if (seeds.empty()) seeds = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
   if (Wanted(argc, argv, "chessboards"))
-    Boards("chessboards", sim::BoardSessionOptions{}, false, &table);
-  if (Wanted(argc, argv, "charuco")) Boards("ChArUco boards", sim::CharucoSession(), true, &table);
+    Boards("chessboards", sim::BoardSessionOptions{}, false, seeds, &table);
+  if (Wanted(argc, argv, "charuco"))
+    Boards("ChArUco boards", sim::CharucoSession(), true, seeds, &table);
   if (Wanted(argc, argv, "marked"))
-    Boards("chessboards with circle markers", sim::MarkedChessboardSession(), true, &table);
+    Boards("chessboards with circle markers", sim::MarkedChessboardSession(), true, seeds, &table);
   if (Wanted(argc, argv, "hills")) Hills(&table);
   return table.Finish(argc, argv);
 }
