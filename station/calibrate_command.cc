@@ -75,9 +75,10 @@ TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateA
     } else {
       skipped->push_back(file);
       Log().warn("{}: {} not found{}; view skipped", file, args.board.Describe(),
-                 args.board.charuco                     ? " (fewer than 6 corners)"
-                 : args.board.chessboard.circle_markers ? " (its circle markers not in view)"
-                                                        : "");
+                 args.board.charuco ? " (fewer than 6 corners)"
+                 : args.board.chessboard.circle_markers
+                     ? " (no part of it with its three circle markers)"
+                     : "");
     }
   }
   return views;

@@ -7,18 +7,20 @@
 namespace ts {
 namespace {
 
-// Where in a square (0..1 along each side) its level and its centre are sampled: away from
-// the edges, which blur, and from a circle marker (radius 0.17) for the level; well within
-// the marker for the centre.
+// Where in a square (0..1 along each side) it is sampled: its level away from the edges,
+// which blur, and from a circle marker; its centre well within the marker.
 constexpr double kLevelAt[] = {0.25, 0.42, 0.58, 0.75};
-constexpr double kMarkerClearance = 0.22;
+constexpr double kMarkerClearance = 0.5 * kCircleMarkerDiameter + 0.05;
 constexpr double kCentreAt[][2] = {{0.5, 0.5}, {0.44, 0.5}, {0.56, 0.5}, {0.5, 0.44}, {0.5, 0.56}};
 
-std::vector<std::array<double, 2>> LevelPlaces() {
+// The places of a square's samples: its level's, then its centre's (`levels` of them first).
+std::vector<std::array<double, 2>> SamplePlaces(int* levels) {
   std::vector<std::array<double, 2>> places;
   for (double v : kLevelAt)
     for (double u : kLevelAt)
       if (std::hypot(u - 0.5, v - 0.5) >= kMarkerClearance) places.push_back({u, v});
+  *levels = static_cast<int>(places.size());
+  for (const auto& [u, v] : kCentreAt) places.push_back({u, v});
   return places;
 }
 
@@ -35,24 +37,19 @@ GridSquares SampleSquares(const cv::Mat& grey, const CornerGrid& g) {
   s.rows = std::max(0, g.rows - 1);
   const int n = s.columns * s.rows;
   if (n == 0) return s;
-  const std::vector<std::array<double, 2>> level_places = LevelPlaces();
-  const int per_square = static_cast<int>(level_places.size() + std::size(kCentreAt));
+  int levels = 0;
+  const std::vector<std::array<double, 2>> places = SamplePlaces(&levels);
+  const int per_square = static_cast<int>(places.size());
   std::vector<cv::Point2f> samples;
   for (int r = 0; r < s.rows; ++r)
-    for (int c = 0; c < s.columns; ++c) {
-      for (const auto& [u, v] : level_places) {
+    for (int c = 0; c < s.columns; ++c)
+      for (const auto& [u, v] : places) {
         const Eigen::Vector2d p = InSquare(g, c, r, u, v);
         samples.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
       }
-      for (const auto& [u, v] : kCentreAt) {
-        const Eigen::Vector2d p = InSquare(g, c, r, u, v);
-        samples.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
-      }
-    }
   cv::Mat values;
   cv::remap(grey, values, cv::Mat(samples), cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   values.convertTo(values, CV_64F);
-  const int levels = static_cast<int>(level_places.size());
   for (int k = 0; k < n; ++k) {
     const cv::Mat level = values.rowRange(k * per_square, k * per_square + levels);
     const cv::Mat centre = values.rowRange(k * per_square + levels, (k + 1) * per_square);
@@ -70,7 +67,7 @@ GridSquares SampleSquares(const cv::Mat& grey, const CornerGrid& g) {
 
 bool IsBoardLattice(const GridSquares& s) {
   const int n = s.columns * s.rows;
-  const double contrast = s.light - s.dark, middle = 0.5 * (s.light + s.dark);
+  const double contrast = s.Contrast(), middle = s.Middle();
   if (n == 0 || contrast <= 0) return false;
   const bool first_dark = s.level[0] < middle;
   int good = 0;
@@ -83,7 +80,7 @@ bool IsBoardLattice(const GridSquares& s) {
 
 std::optional<std::vector<int>> NumberByCircleMarkers(const CornerGrid& g, const GridSquares& s,
                                                       const ChessboardOptions& board) {
-  const double contrast = s.light - s.dark, middle = 0.5 * (s.light + s.dark);
+  const double contrast = s.Contrast(), middle = s.Middle();
   std::vector<Eigen::Vector2i> origin, axes;  // squares with a dark, a light circle
   for (int k = 0; k < s.columns * s.rows; ++k) {
     if (std::abs(s.centre[k] - s.level[k]) < 0.5 * contrast) continue;

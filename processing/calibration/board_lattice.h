@@ -30,6 +30,8 @@ struct GridSquares {
   int columns = 0, rows = 0;
   std::vector<double> level, spread, centre;
   double dark = 0.0, light = 0.0;  // the darkest and the lightest square's level
+  double Contrast() const { return light - dark; }
+  double Middle() const { return 0.5 * (light + dark); }
 };
 
 GridSquares SampleSquares(const cv::Mat& grey, const CornerGrid& grid);
