@@ -22,6 +22,7 @@
 #include "station/board_flags.h"
 #include "station/calibration_report.h"
 #include "station/commands.h"
+#include "station/field_session.h"
 #include "station/option_flags.h"
 
 namespace ts {
@@ -91,20 +92,6 @@ struct FieldInputs {
   FieldViews views;
 };
 
-std::vector<FieldImage> LoadFieldImages(const std::vector<std::string>& files,
-                                        const std::vector<ImageMarks>& marks) {
-  std::vector<FieldImage> images;
-  for (const std::string& file : files) {
-    const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
-    if (grey.empty()) throw CommandError(file + ": not a readable image");
-    FieldImage image{file, {}, {}};
-    grey.convertTo(image.image, CV_32FC1, 1.0 / 255.0);
-    if (const ImageMarks* m = MarksOfImage(marks, file)) image.marks = m->marks;
-    images.push_back(std::move(image));
-  }
-  return images;
-}
-
 FieldInputs LoadFieldInputs(const CalibrateArgs& args,
                             const std::vector<std::vector<std::string>>& files,
                             const std::vector<Side>& sides) {
@@ -120,15 +107,8 @@ FieldInputs LoadFieldInputs(const CalibrateArgs& args,
   if (!start) throw CommandError("--start: " + start.error());
   FieldInputs in{*field, {}};
   for (size_t c = 0; c < files.size(); ++c) {
-    in.views.images.push_back(LoadFieldImages(files[c], *marks));
     in.views.start.push_back(sides[c] == Side::kLeft ? start->rig.left : start->rig.right);
-    const CameraIntrinsics& camera = in.views.start.back();
-    for (const FieldImage& image : in.views.images.back())
-      if (image.image.cols != camera.width_px || image.image.rows != camera.height_px)
-        throw CommandError(image.name + ": " + std::to_string(image.image.cols) + "x" +
-                           std::to_string(image.image.rows) + " pixels, the design camera (" +
-                           args.start + ") has " + std::to_string(camera.width_px) + "x" +
-                           std::to_string(camera.height_px));
+    in.views.images.push_back(LoadFieldImages(files[c], *marks, in.views.start.back(), args.start));
   }
   in.views.second_from_first = start->rig.RightFromLeftCamera();
   return in;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <set>
 
 namespace ts {
 namespace {
@@ -210,6 +211,22 @@ void ReportTargets(const ControlField& field, const Eigen::Vector3d& centre,
                                " sigma (disturbed, or a survey error?): " + List(moved));
 }
 
+// The first camera's pose per stage pose, resected from the targets each camera found there
+// (its own first).
+std::vector<std::optional<Eigen::Isometry3d>> ResectedPoses(
+    size_t count, const std::vector<TargetViews>& measured,
+    const std::vector<CameraIntrinsics>& cameras, const Eigen::Isometry3d& second_from_first) {
+  std::vector<std::optional<Eigen::Isometry3d>> poses(count);
+  for (size_t c = measured.size(); c-- > 0;)
+    for (const TargetView& v : measured[c].views) {
+      std::vector<Eigen::Vector3d> target;
+      for (int id : v.ids) target.push_back(measured[c].target[id]);
+      const std::optional<Eigen::Isometry3d> pose = Resect(target, v.pixels, cameras[c]);
+      if (pose) poses[v.placement] = c == 0 ? *pose : second_from_first.inverse() * *pose;
+    }
+  return poses;
+}
+
 // The first adjustment only predicts where the targets are for the second: a model of the
 // terms every lens has, without the significance tests.
 CameraCalibrationOptions PredictionModel(CameraCalibrationOptions o) {
@@ -231,6 +248,30 @@ Status CheckInputs(const FieldViews& views, const CameraCalibrationOptions& cali
 }
 
 }  // namespace
+
+Result<std::vector<TargetViews>> MeasureFieldTargets(const ControlField& field,
+                                                     const FieldViews& views,
+                                                     const FieldCalibrationOptions& o,
+                                                     FieldReport* report) {
+  if (Status s = CheckInputs(views, {}, o, views.images.size()); !s) return Error{s.error()};
+  if (views.images.empty() || views.images.size() > 2)
+    return Error{"field targets: one camera's images or a stereo pair's are needed"};
+  const Eigen::Vector3d centre = Centroid(field);
+  auto poses = OrientPlacements(field, centre, views, o, &report->warnings);
+  std::vector<TargetViews> measured =
+      MeasureViews(field, centre, views, views.start, poses, views.second_from_first, nullptr,
+                   o.first_search_px, o, report);
+  poses = ResectedPoses(poses.size(), measured, views.start, views.second_from_first);
+  measured = MeasureViews(field, centre, views, views.start, poses, views.second_from_first,
+                          nullptr, o.refine_search_px, o, report);
+  std::set<int> found;
+  for (const TargetViews& camera : measured)
+    for (const TargetView& v : camera.views) found.insert(v.ids.begin(), v.ids.end());
+  report->targets_found = static_cast<int>(found.size());
+  report->views = measured;
+  if (found.empty()) return Error{"field targets: no target found in any view"};
+  return measured;
+}
 
 Result<CameraCalibration> CalibrateCameraAtField(const ControlField& field, const FieldViews& views,
                                                  const CameraCalibrationOptions& calibration,

@@ -76,4 +76,16 @@ Result<StereoCalibration> CalibrateStereoAtField(const ControlField& field, cons
                                                  const FieldCalibrationOptions& options,
                                                  FieldReport* report);
 
+// The targets measured with calibrated cameras (views.start; a stereo pair with its relative
+// orientation), for the rig adjustment's control field (issue 21), where the stage poses and
+// not the views are adjusted: each stage pose oriented by its marks and every target sought
+// within first_search_px of its prediction, then each pose oriented by all the targets found
+// in it and every target sought again within refine_search_px. Per camera, the views that
+// found six targets or more; their placement is the stage pose's index, their target the
+// field about its centroid. Errors name what is missing.
+Result<std::vector<TargetViews>> MeasureFieldTargets(const ControlField& field,
+                                                     const FieldViews& views,
+                                                     const FieldCalibrationOptions& options,
+                                                     FieldReport* report);
+
 }  // namespace ts

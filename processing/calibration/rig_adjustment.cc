@@ -1,6 +1,7 @@
 #include "processing/calibration/rig_adjustment.h"
 
 #include <ceres/ceres.h>
+#include <ceres/rotation.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -177,6 +178,43 @@ struct ParameterCost {
   }
 };
 
+// A target's surveyed coordinates as an observation of its point in L through the field's
+// pose in L (angle-axis, then translation).
+struct SurveyedCost {
+  Eigen::Vector3d surveyed;
+  double sigma_m;
+  template <typename T>
+  bool operator()(const T* pose, const T* point, T* residual) const {
+    const T x[3] = {T(surveyed.x()), T(surveyed.y()), T(surveyed.z())};
+    T in_l[3];
+    ceres::AngleAxisRotatePoint(pose, x, in_l);
+    for (int k = 0; k < 3; ++k) residual[k] = (point[k] - in_l[k] - pose[3 + k]) / sigma_m;
+    return true;
+  }
+};
+
+// An exactly surveyed target is still weighed: 0.1 mm, far below what the images resolve.
+constexpr double kExactSurveySigmaM = 1e-4;
+double SurveySigma(const RigControlField& field, int k) {
+  return field.sigma_m[k] > 0.0 ? field.sigma_m[k] : kExactSurveySigmaM;
+}
+
+using FieldPose = std::array<double, 6>;  // L_from_field: angle-axis (rad), translation (m)
+
+FieldPose FieldPoseOf(const Eigen::Isometry3d& l_from_field) {
+  const Eigen::AngleAxisd aa(l_from_field.linear());
+  const Eigen::Vector3d r = aa.angle() * aa.axis(), t = l_from_field.translation();
+  return {r.x(), r.y(), r.z(), t.x(), t.y(), t.z()};
+}
+
+Eigen::Isometry3d IsometryOf(const FieldPose& pose) {
+  const Eigen::Vector3d r(pose[0], pose[1], pose[2]);
+  Eigen::Isometry3d l_from_field = Eigen::Isometry3d::Identity();
+  if (r.norm() > 0.0) l_from_field.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).matrix();
+  l_from_field.translation() = Eigen::Vector3d(pose[3], pose[4], pose[5]);
+  return l_from_field;
+}
+
 ceres::CostFunction* ParameterObservation(const ParameterCost& cost, int size) {
   auto* f = new ceres::DynamicAutoDiffCostFunction<ParameterCost>(new ParameterCost(cost));
   f->AddParameterBlock(size);
@@ -196,6 +234,7 @@ struct Unknowns {
   std::vector<std::array<double, 2>> levelling;  // per station, deg
   std::vector<std::array<double, 2>> encoder;    // per pose: true minus read-back, deg
   std::vector<Eigen::Vector3d> points;
+  std::vector<FieldPose> field_pose;  // per control field
   double* BlockOf(int i) {
     return i < kStageParameterCount ? stage.data()
                                     : levelling[(i - kStageParameterCount) / 2].data();
@@ -203,21 +242,84 @@ struct Unknowns {
   double& Parameter(int i) { return BlockOf(i)[i < kStageParameterCount ? i : i % 2]; }
 };
 
+// The images' sigma, one per kind of image observation: a panorama's tie points and a control
+// field's targets are measured by different means (matching, a disc's centre), each weighed
+// by what it shows.
+struct ImageSigmas {
+  std::array<double, 2> sigma{};  // tie points, targets
+  double Of(bool target) const { return sigma[target ? 1 : 0]; }
+};
+
+// The image observations' sums, per kind.
+struct ImageSums {
+  std::array<double, 2> squares{};
+  std::array<int, 2> kept{}, coordinates{};
+  std::array<std::set<int>, 2> points;
+};
+
+ImageSums SumImageResiduals(const RigAdjustmentInput& in, const std::vector<char>& control,
+                            const std::vector<double>& squared, const std::vector<char>& rejected) {
+  ImageSums sums;
+  for (size_t i = 0; i < squared.size(); ++i) {
+    if (rejected[i]) continue;
+    const RigTieObservation& t = in.observations[i];
+    const int kind = control[t.point] ? 1 : 0;
+    sums.squares[kind] += squared[i];
+    ++sums.kept[kind];
+    sums.coordinates[kind] += t.along_epipolar_only ? 1 : 2;
+    sums.points[kind].insert(t.point);
+  }
+  return sums;
+}
+
+// Each kind's sigma as a variance component: its squared residuals over its redundancy, the
+// parameters shared out by the kinds' numbers of coordinates (a few dozen against thousands of
+// coordinates), the targets' with what their surveyed coordinates add. Nothing when a kind has
+// no redundancy.
+std::optional<ImageSigmas> EstimateImageSigmas(const ImageSums& sums, int parameters,
+                                               int survey_redundancy, const ImageSigmas& last) {
+  const double coordinates = sums.coordinates[0] + sums.coordinates[1];
+  ImageSigmas estimate = last;
+  for (int kind : {0, 1}) {
+    if (sums.kept[kind] == 0) continue;
+    const double redundancy =
+        sums.coordinates[kind] - 3.0 * static_cast<double>(sums.points[kind].size()) -
+        parameters * sums.coordinates[kind] / coordinates + (kind == 1 ? survey_redundancy : 0);
+    if (redundancy <= 0.0) return std::nullopt;
+    estimate.sigma[kind] = std::sqrt(sums.squares[kind] / redundancy);
+  }
+  return estimate;
+}
+
 // `robust`: a Huber loss on the images, for the first round, before mismatched tie points are
 // rejected; after it plain least squares, which converges in a few Gauss-Newton steps where
 // the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred.
 void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, bool robust,
-                  double pixel_sigma_px, const std::vector<double>& prior,
+                  const ImageSigmas& pixel_sigma, const std::vector<double>& prior,
                   const std::set<int>& held, const std::vector<char>& rejected, Unknowns* u,
                   ceres::Problem* problem) {
   const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
+  const std::vector<char> control = in.ControlPoints();
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
-    auto* cost = new TieCost(in.calibration, t, PlacementOf(placements, t), pixel_sigma_px);
+    auto* cost = new TieCost(in.calibration, t, PlacementOf(placements, t),
+                             pixel_sigma.Of(control[t.point]));
     problem->AddResidualBlock(cost, robust ? new ceres::HuberLoss(3.0) : nullptr, u->stage.data(),
                               u->levelling[in.poses[t.pose].station].data(),
                               u->encoder[t.pose].data(), u->points[t.point].data());
+  }
+  // A target whose image observations were all rejected has left the problem.
+  for (size_t f = 0; f < in.control_fields.size(); ++f) {
+    const RigControlField& field = in.control_fields[f];
+    for (size_t k = 0; k < field.points.size(); ++k) {
+      double* point = u->points[field.points[k]].data();
+      if (!problem->HasParameterBlock(point)) continue;
+      problem->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SurveyedCost, 3, 6, 3>(
+              new SurveyedCost{field.surveyed[k], SurveySigma(field, static_cast<int>(k))}),
+          nullptr, u->field_pose[f].data(), point);
+    }
   }
   for (auto& e : u->encoder)
     if (problem->HasParameterBlock(e.data()))
@@ -310,7 +412,13 @@ std::optional<Eigen::MatrixXd> ParameterCovariance(Unknowns* u, const std::vecto
       options.parameter_blocks.push_back(e.data());
       ++encoders;
     }
-  const int reduced = static_cast<int>(free.size()) + 2 * encoders;
+  int field_parameters = 0;
+  for (auto& f : u->field_pose)
+    if (problem->HasParameterBlock(f.data())) {
+      options.parameter_blocks.push_back(f.data());
+      field_parameters += 6;
+    }
+  const int reduced = static_cast<int>(free.size()) + 2 * encoders + field_parameters;
   // A point whose observations were all rejected has left the problem.
   std::vector<int> column_point;
   for (size_t p = 0; p < u->points.size(); ++p)
@@ -393,11 +501,72 @@ std::vector<int> Undetermined(const Eigen::MatrixXd& covariance, const std::vect
     if (std::find(named.begin(), named.end(), parameter) != named.end()) continue;
     named.push_back(parameter);
     why->push_back(ParameterName(parameter, stations) +
-                   ": not determined by this panorama (the data add " +
+                   ": not determined by these views (the data add " +
                    fmt::format("{:.2g}", std::max(0.0, eigen.eigenvalues()[k])) +
                    " of the prior's information), held at its prior");
   }
   return named;
+}
+
+// What the surveyed coordinates add to the redundancy: three per target in the problem, less
+// the field's pose.
+int SurveyRedundancy(const RigAdjustmentInput& in, const Unknowns& u,
+                     const ceres::Problem& problem) {
+  int redundancy = 0;
+  for (const RigControlField& field : in.control_fields) {
+    int targets = 0;
+    for (int point : field.points) targets += problem.HasParameterBlock(u.points[point].data());
+    if (targets > 0) redundancy += 3 * targets - 6;
+  }
+  return redundancy;
+}
+
+std::vector<RigAdjustment::ControlFit> ControlFits(const RigAdjustmentInput& in, const Unknowns& u,
+                                                   const std::vector<double>& squared,
+                                                   const std::vector<char>& rejected) {
+  std::vector<RigAdjustment::ControlFit> fits;
+  for (size_t f = 0; f < in.control_fields.size(); ++f) {
+    const RigControlField& field = in.control_fields[f];
+    RigAdjustment::ControlFit fit;
+    fit.l_from_field = IsometryOf(u.field_pose[f]);
+    std::vector<char> target(in.points.size(), 0);
+    for (int point : field.points) target[point] = 1;
+    std::vector<char> seen(in.points.size(), 0);
+    double squares = 0.0;
+    int kept = 0;
+    for (size_t i = 0; i < squared.size(); ++i)
+      if (!rejected[i] && target[in.observations[i].point]) {
+        squares += squared[i], ++kept;
+        seen[in.observations[i].point] = 1;
+      }
+    fit.rms_px = kept > 0 ? std::sqrt(squares / (2.0 * kept)) : 0.0;
+    for (size_t k = 0; k < field.points.size(); ++k) {
+      if (!seen[field.points[k]]) continue;
+      ++fit.targets;
+      const Eigen::Vector3d moved =
+          fit.l_from_field.inverse() * u.points[field.points[k]] - field.surveyed[k];
+      fit.largest_move_sigma =
+          std::max(fit.largest_move_sigma,
+                   moved.cwiseAbs().maxCoeff() / SurveySigma(field, static_cast<int>(k)));
+    }
+    fits.push_back(fit);
+  }
+  return fits;
+}
+
+Status CheckControlFields(const RigAdjustmentInput& in, int stations) {
+  for (const RigControlField& field : in.control_fields) {
+    if (field.station < 0 || field.station >= stations)
+      return Error{
+          fmt::format("a control field names station {} of {}", field.station + 1, stations)};
+    if (field.surveyed.size() != field.points.size() || field.sigma_m.size() != field.points.size())
+      return Error{"a control field's targets, coordinates and sigmas differ in number"};
+    for (size_t k = 0; k < field.points.size(); ++k)
+      if (field.points[k] < 0 || field.points[k] >= static_cast<int>(in.points.size()) ||
+          !field.surveyed[k].allFinite() || !(field.sigma_m[k] >= 0.0))
+        return Error{"a control field's target names no point, or its coordinates are not finite"};
+  }
+  return {};
 }
 
 // Every station needs a point seen from two of its poses; a tie point belongs to one station.
@@ -415,6 +584,7 @@ Status CheckInput(const RigAdjustmentInput& in) {
       return Error{"a tie observation names no pose or point, or its pixel is not finite"};
     poses_of[t.point].insert(t.pose);
   }
+  if (Status s = CheckControlFields(in, stations); !s) return s;
   std::vector<char> tied(stations, 0);
   for (const auto& poses : poses_of) {
     std::set<int> of;
@@ -428,8 +598,6 @@ Status CheckInput(const RigAdjustmentInput& in) {
                    "no point is seen from two stage poses: nothing ties the poses together"};
   return {};
 }
-
-}  // namespace
 
 // Each image observation's residual (pixels), squared.
 std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknowns& u) {
@@ -448,12 +616,14 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
 // Marks the observations off by more than k sigma (a mismatched tie point), and every
 // observation of a point that no longer ties two poses (its position would be free along a
 // ray); true when the marks changed.
-bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares, double sigma,
-            std::vector<char>* rejected) {
+bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares,
+            const ImageSigmas& sigma, std::vector<char>* rejected) {
+  const std::vector<char> control = in.ControlPoints();
   std::vector<char> marks(squares.size());
   std::vector<std::set<int>> poses_of(in.points.size());
   for (size_t i = 0; i < squares.size(); ++i) {
-    marks[i] = squares[i] > 2.0 * std::pow(kRejectionK * sigma, 2);
+    const int point = in.observations[i].point;
+    marks[i] = squares[i] > 2.0 * std::pow(kRejectionK * sigma.Of(control[point]), 2);
     if (!marks[i]) poses_of[in.observations[i].point].insert(in.observations[i].pose);
   }
   for (size_t i = 0; i < squares.size(); ++i)
@@ -462,6 +632,8 @@ bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares, do
   *rejected = std::move(marks);
   return changed;
 }
+
+}  // namespace
 
 Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmentOptions& o) {
   std::string why;
@@ -475,19 +647,24 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   for (const RigStation& s : stations)
     prior.insert(prior.end(), {s.levelling_deg.x(), s.levelling_deg.y()});
   // The stage's own levelling slots are the stations' (held, unused); the pan zero is the
-  // azimuth datum.
+  // azimuth datum; a control field's pose turns its set-up as its levelling would.
   std::set<int> held = {0, 1, kPanZero};
+  for (const RigControlField& field : in.control_fields)
+    held.insert({LevellingParameter(field.station, 0), LevellingParameter(field.station, 1)});
   RigAdjustment r;
   Unknowns u;
-  // The images' sigma is estimated as a variance component, so that the sigmas weigh the
-  // images against the encoders and the inclinometer by what the images really show.
-  double pixel_sigma = o.pixel_sigma_px;
+  // The images' sigmas are estimated as variance components, so that the sigmas weigh the
+  // images against the encoders, the inclinometer and the survey by what the images show.
+  ImageSigmas pixel_sigma{{o.pixel_sigma_px, o.pixel_sigma_px}};
+  const std::vector<char> control = in.ControlPoints();
   u.stage = stage_prior;
   u.levelling.resize(stations.size());
   for (int i = kStageParameterCount; i < static_cast<int>(prior.size()); ++i)
     u.Parameter(i) = prior[i];
   u.encoder.assign(in.poses.size(), {0.0, 0.0});
   u.points = in.points;
+  for (const RigControlField& field : in.control_fields)
+    u.field_pose.push_back(FieldPoseOf(field.l_from_field));
   std::vector<char> rejected(in.observations.size(), 0);
   // Each round starts from the last one's solution, a newly held parameter from its prior.
   for (int weighing = 0, observability = 0;;) {
@@ -498,24 +675,18 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     const std::vector<char> problem_rejected = rejected;
     if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
-    double squares = 0.0;
-    int kept = 0, coordinates = 0;
-    std::set<int> points;
-    for (size_t i = 0; i < squared.size(); ++i)
-      if (!rejected[i]) {
-        squares += squared[i], ++kept;
-        coordinates += in.observations[i].along_epipolar_only ? 1 : 2;
-        points.insert(in.observations[i].point);
-      }
+    const ImageSums sums = SumImageResiduals(in, control, squared, rejected);
+    const int kept = sums.kept[0] + sums.kept[1];
     const std::vector<int> free = FreeParameters(&u, held, &problem);
-    const int redundancy =
-        coordinates - 3 * static_cast<int>(points.size()) - static_cast<int>(free.size());
-    if (redundancy <= 0) return Error{"rig adjustment: fewer observations than unknowns"};
-    const double image_sigma = std::sqrt(squares / redundancy);
-    const bool reweigh = std::abs(image_sigma / pixel_sigma - 1.0) > 0.05;
-    const bool marks_changed = Reject(in, squared, image_sigma, &rejected);
+    const std::optional<ImageSigmas> image_sigma = EstimateImageSigmas(
+        sums, static_cast<int>(free.size()), SurveyRedundancy(in, u, problem), pixel_sigma);
+    if (!image_sigma) return Error{"rig adjustment: fewer observations than unknowns"};
+    bool reweigh = false;
+    for (int kind : {0, 1})
+      reweigh |= std::abs(image_sigma->sigma[kind] / pixel_sigma.sigma[kind] - 1.0) > 0.05;
+    const bool marks_changed = Reject(in, squared, *image_sigma, &rejected);
     if ((reweigh || marks_changed) && weighing++ < kMaxWeightRounds) {
-      pixel_sigma = image_sigma;
+      pixel_sigma = *image_sigma;
       continue;
     }
     r.observations = kept;
@@ -530,8 +701,8 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
       continue;
     }
-    r.rms_px = std::sqrt(squares / (2.0 * kept));
-    r.image_sigma_px = image_sigma;
+    r.rms_px = std::sqrt((sums.squares[0] + sums.squares[1]) / (2.0 * kept));
+    r.image_sigma_px = image_sigma->sigma[sums.kept[0] > 0 ? 0 : 1];
     const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, (*covariance)(i, i))); };
     for (int s = 0; s < station_count; ++s) {
       const int x = LevellingParameter(s, 0);
@@ -546,6 +717,8 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     }
     r.stage = StageKinematicsOf(stage, in.calibration.stage);
     r.points = u.points;
+    r.control = ControlFits(in, u, squared, rejected);
+    for (RigAdjustment::ControlFit& fit : r.control) fit.image_sigma_px = image_sigma->sigma[1];
     return r;
   }
 }
@@ -555,6 +728,14 @@ std::vector<RigStation> RigAdjustmentInput::Stations() const {
   RigStation one;
   one.levelling_deg = {calibration.stage.levelling_x_deg, calibration.stage.levelling_y_deg};
   return {one};
+}
+
+std::vector<char> RigAdjustmentInput::ControlPoints() const {
+  std::vector<char> control(points.size(), 0);
+  for (const RigControlField& field : control_fields)
+    for (int point : field.points)
+      if (point >= 0 && point < static_cast<int>(points.size())) control[point] = 1;
+  return control;
 }
 
 Calibration RigAdjustmentInput::CalibrationOf(int station) const {
@@ -584,6 +765,11 @@ RigAdjustmentInput JoinStations(const std::vector<RigAdjustmentInput>& inputs) {
       joined.observations.push_back(t);
     }
     joined.points.insert(joined.points.end(), in.points.begin(), in.points.end());
+    for (RigControlField field : in.control_fields) {
+      field.station += first_station;
+      for (int& point : field.points) point += first_point;
+      joined.control_fields.push_back(std::move(field));
+    }
     // Kept aligned with the points: a station without covariances adds zeros.
     joined.point_covariance_m2.resize(first_point, Eigen::Matrix3d::Zero());
     joined.point_covariance_m2.insert(joined.point_covariance_m2.end(),

@@ -22,6 +22,13 @@
 // of that combination than the prior did), the parameter that dominates it is held at its
 // prior and named. The combinations that remain (tilt zero against the rig's omega with one
 // tilt, for example: only their sum turns the views) are carried by the others.
+//
+// A control field in view joins the same adjustment: its targets are points like the tie
+// points, seen from the poses of the set-up at the field, and their surveyed coordinates are
+// observations of them through the field's pose in L (six unknowns; the field's frame is its
+// own). Where tie points only tell how the views turn against each other, the targets fix
+// where each camera stands: the offsets of the tilt axis and of the rig come from them. That
+// set-up's levelling is held, its rotation being the field pose's.
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -76,6 +83,16 @@ struct RigTieObservation {
   bool along_epipolar_only = false;
 };
 
+// Targets surveyed in a frame of their own, seen from the poses of one station (the set-up at
+// the field).
+struct RigControlField {
+  int station = 0;
+  std::vector<int> points;                // the input's points that are its targets
+  std::vector<Eigen::Vector3d> surveyed;  // their coordinates in the field's frame (m)
+  std::vector<double> sigma_m;            // of each coordinate; 0: taken as 0.1 mm
+  Eigen::Isometry3d l_from_field = Eigen::Isometry3d::Identity();  // the start
+};
+
 struct RigAdjustmentInput {
   // The cameras held; its stage is the prior and the start of what the stations share.
   Calibration calibration;
@@ -86,6 +103,9 @@ struct RigAdjustmentInput {
   std::vector<Eigen::Vector3d> points;  // each tie point's start in L
   // Its covariance from its pair's intersection (m^2, in L), for the seams' predicted sigma.
   std::vector<Eigen::Matrix3d> point_covariance_m2;
+  std::vector<RigControlField> control_fields;
+  // Per point: one of a control field's targets (not a tie point of a panorama's seams).
+  std::vector<char> ControlPoints() const;
   // The stations as given, or the one station an empty list stands for.
   std::vector<RigStation> Stations() const;
   // calibration with the levelling of a station (that with which its points were intersected).
@@ -99,18 +119,29 @@ struct RigAdjustment {
   std::vector<Eigen::Vector2d> levelling_deg, levelling_sigma_deg;
   // The parameters held at their prior because the panorama does not determine them, with why.
   std::vector<std::string> undetermined;
-  // Of an image coordinate, a posteriori (a variance component: the sigmas above are weighed
-  // with it).
+  // Of a tie point's image coordinate, a posteriori (a variance component: the sigmas above
+  // are weighed with it; a control field's targets have their own).
   double image_sigma_px = 0.0;
   double rms_px = 0.0;                     // over the image observations kept
   int observations = 0;                    // image observations kept
   int rejected = 0;                        // off by more than 4 sigma: mismatched tie points
   std::vector<char> rejected_observation;  // per input observation
   std::vector<Eigen::Vector3d> points;     // adjusted, in L
+  // Per control field: its pose in L, and how its targets fit (RMS of their image residuals;
+  // the largest move of a surveyed point, in its sigmas).
+  struct ControlFit {
+    Eigen::Isometry3d l_from_field = Eigen::Isometry3d::Identity();
+    int targets = 0;
+    double rms_px = 0.0;
+    double image_sigma_px = 0.0;  // of a target's image coordinate, its variance component
+    double largest_move_sigma = 0.0;
+  };
+  std::vector<ControlFit> control;
 };
 
 // The tie points of several stations of one rig as one input: poses, points and observations
-// renumbered, each pose knowing its station; the first station's calibration is the start.
+// renumbered, each pose knowing its station, control fields with them; the first station's
+// calibration is the start.
 RigAdjustmentInput JoinStations(const std::vector<RigAdjustmentInput>& stations);
 
 // Needs observations of at least one point from two poses.

@@ -32,19 +32,20 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& st
   for (size_t s = 0; s < in.Stations().size(); ++s)
     intersected.push_back(in.CalibrationOf(static_cast<int>(s)));
   std::vector<int> first_pose(in.points.size(), -1);
-  std::vector<char> mismatched(in.points.size(), 0);
+  // A control field's targets are not seams: no pair intersected them.
+  std::vector<char> left_out = in.ControlPoints();
   for (size_t i = 0; i < in.observations.size(); ++i) {
     const RigTieObservation& t = in.observations[i];
     if (first_pose[t.point] < 0) first_pose[t.point] = t.pose;
     if (i < adjustment.rejected_observation.size() && adjustment.rejected_observation[i])
-      mismatched[t.point] = 1;
+      left_out[t.point] = 1;
   }
   RigSeams seams;
   std::vector<double> px, mm;
   int within = 0;
   for (const RigTieObservation& t : in.observations) {
     const int k = first_pose[t.point];
-    if (t.pose == k || t.side != Side::kLeft || mismatched[t.point]) continue;
+    if (t.pose == k || t.side != Side::kLeft || left_out[t.point]) continue;
     if (station >= 0 && in.poses[k].station != station) continue;
     // The pair's point, moved with its pose from the input's stage to `stage`.
     const Eigen::Isometry3d move =

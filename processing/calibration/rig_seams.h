@@ -7,7 +7,8 @@
 // two image measurements' variance (the pair's and the neighbour's), the image sigma being the
 // rig adjustment's (estimated from all tie points with the stage free, so that an error of the
 // stage does not enter it). Seams that close are within 2 of it. Tie points the adjustment
-// rejected as mismatched are left out: they tell of the matching, not of the stage.
+// rejected as mismatched are left out: they tell of the matching, not of the stage; so are a
+// control field's targets.
 #include <Eigen/Core>
 #include <vector>
 

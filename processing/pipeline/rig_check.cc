@@ -1,5 +1,7 @@
 #include "processing/pipeline/rig_check.h"
 
+#include <algorithm>
+
 namespace ts {
 
 RigAdjustmentInput StationTiePoints(RigAdjustmentInput found) {
@@ -17,9 +19,12 @@ Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
   RigCheck check;
   check.start = tie.calibration.stage;
   check.stations = tie.Stations();
+  check.at_control_field.assign(check.stations.size(), 0);
+  for (const RigControlField& field : tie.control_fields) check.at_control_field[field.station] = 1;
   check.adjustment = std::move(*adjusted);
   check.adjustment.stage.height_above_mark_m = check.start.height_above_mark_m;
-  check.tie_points = static_cast<int>(tie.points.size());
+  const std::vector<char> control = tie.ControlPoints();
+  check.tie_points = static_cast<int>(std::count(control.begin(), control.end(), 0));
   check.before = MeasureRigSeams(tie, check.start, check.adjustment);
   check.after = MeasureRigSeams(tie, check.adjustment.stage, check.adjustment);
   if (stations.size() > 1)
@@ -57,17 +62,30 @@ nlohmann::json RigCheckJson(const RigCheck& check, bool used) {
       {"seams", {{"before", SeamsJson(check.before)}, {"after", SeamsJson(check.after)}}},
       {"parameters", parameters},
       {"undetermined", r.undetermined}};
+  if (!r.control.empty()) {
+    nlohmann::json fields = nlohmann::json::array();
+    for (const RigAdjustment::ControlFit& fit : r.control)
+      fields.push_back({{"targets", fit.targets},
+                        {"rms_px", fit.rms_px},
+                        {"image_sigma_px", fit.image_sigma_px},
+                        {"largest_move_sigma", fit.largest_move_sigma}});
+    j["control_fields"] = fields;
+  }
   if (!check.station_after.empty()) {
     nlohmann::json stations = nlohmann::json::array();
     for (size_t k = 0; k < check.station_after.size(); ++k) {
       const Eigen::Vector2d start = check.stations[k].levelling_deg;
       const Eigen::Vector2d value = r.levelling_deg[k], sigma = r.levelling_sigma_deg[k];
-      stations.push_back(
-          {{"levelling_x_deg",
-            {{"value", value.x()}, {"sigma", sigma.x()}, {"change", value.x() - start.x()}}},
-           {"levelling_y_deg",
-            {{"value", value.y()}, {"sigma", sigma.y()}, {"change", value.y() - start.y()}}},
-           {"seams_after", SeamsJson(check.station_after[k])}});
+      nlohmann::json station = {
+          {"levelling_x_deg",
+           {{"value", value.x()}, {"sigma", sigma.x()}, {"change", value.x() - start.x()}}},
+          {"levelling_y_deg",
+           {{"value", value.y()}, {"sigma", sigma.y()}, {"change", value.y() - start.y()}}}};
+      if (check.at_control_field[k])
+        station["control_field"] = true;  // its levelling held, the field's pose turns it
+      else
+        station["seams_after"] = SeamsJson(check.station_after[k]);
+      stations.push_back(station);
     }
     j["stations"] = stations;
   }

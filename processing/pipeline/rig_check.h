@@ -27,7 +27,8 @@ struct RigCheck {
   RigSeams before, after;  // of every station
   // Several stations: each one's seams after the adjustment, in their order.
   std::vector<RigSeams> station_after;
-  int tie_points = 0;
+  std::vector<char> at_control_field;  // per station: a control field's set-up (no seams)
+  int tie_points = 0;                  // of the panoramas (a control field's targets are not)
   // The seams of the start close: at least this share of the tie points within 2 of their
   // predicted sigma (a 2D normal error gives 98 %; real tie points, with their heavier tail,
   // 94-96 % on the true calibration).
