@@ -199,10 +199,6 @@ std::string WriteReport(const CalibrationReport& report, const std::string& cali
   return dir;
 }
 
-CameraPrecision PrecisionOf(const CameraCalibration& c) {
-  return {true, c.sigma, c.covariance, c.rms_px};
-}
-
 void PrintCamera(const char* name, const CameraCalibration& c) {
   std::printf(
       "%s: %zu views, RMS %.3f px; c %.2f +- %.2f px, principal point %.2f %.2f (+- %.2f %.2f) "
@@ -263,27 +259,6 @@ void RunCalibrateCamera(CalibrateArgs args) {
   PrintValidation(validation);
   std::printf("written %s, report in %s\n", args.out.c_str(),
               j["report"].get<std::string>().c_str());
-}
-
-// The stereo result as a calibration `process` reads: the stage kinematics and the rig's roll
-// about its baseline from --stage-from (the stage is calibrated on the rig, not on a board), or
-// the ideal stage and the roll that levels the mean viewing axis.
-Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibration>& previous) {
-  Calibration cal;
-  cal.rig = s.Rig(1.0);
-  if (previous) {
-    cal.stage = previous->stage;
-    // X_S stays the calibrated baseline; Y_S as near the previous rig's as that allows.
-    const Eigen::Vector3d x = cal.rig.S_from_left.row(0).transpose();
-    const Eigen::Vector3d previous_y = previous->rig.S_from_left.row(1).transpose();
-    const Eigen::Vector3d y = (previous_y - previous_y.dot(x) * x).normalized();
-    cal.rig.S_from_left.row(1) = y.transpose();
-    cal.rig.S_from_left.row(2) = x.cross(y).transpose();
-  }
-  cal.left_precision = PrecisionOf(s.left);
-  cal.right_precision = PrecisionOf(s.right);
-  cal.stereo_precision = {true, s.baseline_sigma, s.angles_sigma_deg, s.covariance, s.rms_px};
-  return cal;
 }
 
 void RunCalibrateStereo(CalibrateArgs args) {

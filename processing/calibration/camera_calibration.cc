@@ -187,4 +187,26 @@ Result<StereoCalibration> CalibrateStereo(const TargetViews& left, const TargetV
   return r;
 }
 
+CameraPrecision PrecisionOf(const CameraCalibration& c) {
+  return {true, c.sigma, c.covariance, c.rms_px};
+}
+
+Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibration>& previous) {
+  Calibration cal;
+  cal.rig = s.Rig(1.0);
+  if (previous) {
+    cal.stage = previous->stage;
+    // X_S stays the calibrated baseline; Y_S as near the previous rig's as that allows.
+    const Eigen::Vector3d x = cal.rig.S_from_left.row(0).transpose();
+    const Eigen::Vector3d previous_y = previous->rig.S_from_left.row(1).transpose();
+    const Eigen::Vector3d y = (previous_y - previous_y.dot(x) * x).normalized();
+    cal.rig.S_from_left.row(1) = y.transpose();
+    cal.rig.S_from_left.row(2) = x.cross(y).transpose();
+  }
+  cal.left_precision = PrecisionOf(s.left);
+  cal.right_precision = PrecisionOf(s.right);
+  cal.stereo_precision = {true, s.baseline_sigma, s.angles_sigma_deg, s.covariance, s.rms_px};
+  return cal;
+}
+
 }  // namespace ts

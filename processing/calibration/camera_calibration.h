@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "core/result.h"
 #include "processing/calibration/target_adjustment.h"
 #include "processing/calibration/target_views.h"
+#include "processing/geometry/calibration.h"
 #include "processing/geometry/camera_model.h"
 #include "processing/geometry/stereo_rig.h"
 
@@ -129,5 +131,13 @@ Result<StereoCalibration> CalibrateStereo(const TargetViews& left, const TargetV
                                           const CameraCalibrationOptions& options,
                                           const CameraIntrinsics* left_start = nullptr,
                                           const CameraIntrinsics* right_start = nullptr);
+
+// A camera's adjusted precision as calibration.yaml keeps it.
+CameraPrecision PrecisionOf(const CameraCalibration& c);
+
+// The stereo result as a calibration `process` reads: the stage kinematics and the rig's roll
+// about its baseline from `previous` (the stage is calibrated on the rig, not on a board), or
+// the ideal stage and the roll that levels the mean viewing axis.
+Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibration>& previous);
 
 }  // namespace ts

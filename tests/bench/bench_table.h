@@ -69,6 +69,18 @@ inline std::vector<uint64_t> SeedsArgument(int argc, char** argv) {
   return seeds;
 }
 
+// --only A,B,...: whether `name` is among the sets (or scenes) to run; all without the flag.
+inline bool Wanted(int argc, char** argv, const std::string& name) {
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) != "--only") continue;
+    std::stringstream list(argv[i + 1]);
+    for (std::string item; std::getline(list, item, ',');)
+      if (item == name) return true;
+    return false;
+  }
+  return true;
+}
+
 // Wall time of fn in seconds: best of `repeats`.
 template <typename Fn>
 double BestSeconds(int repeats, Fn&& fn) {

@@ -20,9 +20,16 @@
 #include "processing/geometry/rotation.h"
 #include "sim/calibration_field.h"
 #include "sim/sim_rig.h"
+#include "tests/common/stage_truth.h"
 
 namespace ts::sim {
 namespace {
+
+using testing::AngleDeg;
+using testing::CameraErrors;
+using testing::FieldPlacementErrors;
+using testing::IsStageOffset;
+using testing::TruthInTheEstimatesGauge;
 
 struct Panorama {
   RigAdjustmentInput input;
@@ -82,15 +89,8 @@ std::vector<RigPose> Poses(const SimRig& rig, bool upper) {
   return poses;
 }
 
-double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return DegFromRad(Eigen::AngleAxisd(a.transpose() * b).angle());
-}
-
 // The largest error of a camera's pose in L over the poses, the levelling and the tilt axis's
 // height taken from the truth (no panorama shows them).
-struct CameraErrors {
-  double deg = 0.0, m = 0.0;
-};
 CameraErrors ErrorsOf(const SimRig& rig, const Panorama& p, const StageKinematics& stage) {
   Calibration c = p.input.calibration;
   c.stage = stage;
@@ -328,50 +328,6 @@ FieldSessionViews ProjectFieldSession(const SimRig& rig, uint64_t seed) {
   return f;
 }
 
-// The largest error of a camera's pose in the field's frame over the session's poses.
-CameraErrors FieldErrorsOf(const SimRig& rig, const FieldSessionViews& f, const RigAdjustment& r) {
-  Calibration c = rig.truth;
-  c.stage = r.stage;
-  CameraErrors e;
-  for (size_t k = 0; k < f.poses.size(); ++k)
-    for (Side side : {Side::kLeft, Side::kRight}) {
-      const Eigen::Isometry3d truth =
-          f.session.field_from_station *
-          rig.truth.LFromCamera(side, f.session.poses[k].pan_deg, f.session.poses[k].tilt_deg);
-      const Eigen::Isometry3d estimate =
-          r.control[0].l_from_field.inverse() *
-          c.LFromCamera(side, f.poses[k].pan_deg, f.poses[k].tilt_deg);
-      e.deg = std::max(e.deg, AngleDeg(truth.linear(), estimate.linear()));
-      e.m = std::max(e.m, (truth.translation() - estimate.translation()).norm());
-    }
-  return e;
-}
-
-// The truth as the estimate's held parameters see it. The tilt zero and the rig's omega turn
-// the views about one axis, so with one of them held at another value than the truth the same
-// cameras have the other shifted alike and the rig's offset turned with them; the tilt axis's
-// and the rig's x offsets both lie along the tilt axis (to the skew's cosine).
-bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
-
-StageVector TruthInTheEstimatesGauge(const StageKinematics& truth, const RigAdjustment& r) {
-  StageVector t = StageVectorOf(truth);
-  const StageVector e = StageVectorOf(r.stage);
-  constexpr int kTiltZero = 3, kTiltAxisX = 4, kRigX = 8, kRigOmega = 11;
-  const double turn = r.sigma[kRigOmega] == 0.0   ? e[kRigOmega] - t[kRigOmega]
-                      : r.sigma[kTiltZero] == 0.0 ? e[kTiltZero] - t[kTiltZero]
-                                                  : 0.0;
-  t[kTiltZero] += turn;
-  t[kRigOmega] += turn;
-  const Eigen::Vector3d offset = RotationX(RadFromDeg(turn)) * Eigen::Vector3d(t[8], t[9], t[10]);
-  for (int k = 0; k < 3; ++k) t[kRigX + k] = offset[k];
-  const double along = r.sigma[kRigX] == 0.0        ? e[kRigX] - t[kRigX]
-                       : r.sigma[kTiltAxisX] == 0.0 ? e[kTiltAxisX] - t[kTiltAxisX]
-                                                    : 0.0;
-  t[kRigX] += along;
-  t[kTiltAxisX] -= along;
-  return t;
-}
-
 Result<RigAdjustment> AdjustAtField(const SimRig& rig, const FieldSessionViews& f) {
   Calibration start = rig.truth;
   start.stage = rig.nominal.stage;
@@ -396,7 +352,11 @@ TEST(RigAdjustment, AControlFieldGivesWhereEachCameraStands) {
               r->control[0].largest_move_sigma);
   EXPECT_GT(r->control[0].targets, 150);
   EXPECT_LT(r->control[0].rms_px, 0.08);
-  const CameraErrors after = FieldErrorsOf(rig, f, *r);
+  Calibration adjusted = rig.truth;
+  adjusted.stage = r->stage;
+  const CameraErrors after =
+      FieldPlacementErrors(rig.truth, f.session.field_from_station, f.session.poses, adjusted,
+                           r->control[0].l_from_field, f.poses);
   std::printf("cameras' largest error in the field: %.4f deg, %.2f mm\n", after.deg, 1e3 * after.m);
   EXPECT_LT(after.deg, 0.01);
   EXPECT_LT(after.m, 0.002);
@@ -408,7 +368,7 @@ TEST(RigAdjustment, AControlFieldGivesWhereEachCameraStands) {
     if (r->sigma[i] == 0.0) continue;
     std::printf("  %-22s %+.5f +- %.5f (truth %+.5f)\n", kStageParameterNames[i], estimate[i],
                 r->sigma[i], truth[i]);
-    EXPECT_NEAR(estimate[i], truth[i], IsOffset(i) ? 0.002 : 0.01) << kStageParameterNames[i];
+    EXPECT_NEAR(estimate[i], truth[i], IsStageOffset(i) ? 0.002 : 0.01) << kStageParameterNames[i];
   }
 }
 
