@@ -56,6 +56,8 @@ Result<std::unique_ptr<SimServer>> SimServer::Start(std::shared_ptr<const SimSta
     left->RenderAhead(p);
     right->RenderAhead(p);
   });
+  server->stage_->SetViewReady(
+      [left, right](const StagePose& p) { return left->HasView(p) && right->HasView(p); });
   if (options.faults.camera_gone) {
     const CameraGoneFault fault = *options.faults.camera_gone;
     SimServer* self = server.get();
@@ -71,7 +73,10 @@ SimServer::~SimServer() {
   }
   quit_changed_.notify_all();
   if (fault_thread_.joinable()) fault_thread_.join();
-  if (stage_) stage_->SetOnMoveStarted({});
+  if (stage_) {
+    stage_->SetOnMoveStarted({});
+    stage_->SetViewReady({});
+  }
   left_.reset();
   right_.reset();
   stage_.reset();

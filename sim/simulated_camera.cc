@@ -118,6 +118,12 @@ void SimulatedCamera::Prerender(const std::vector<StagePose>& poses) {
   for (const StagePose& pose : poses) Radiance(pose, 0, true);
 }
 
+bool SimulatedCamera::HasView(const StagePose& pose) const {
+  const ViewKey key = MakeViewKey(pose, 0);
+  std::lock_guard lock(cache_mutex_);
+  return last_rendered_ahead_ == key || radiance_.count(key) > 0;
+}
+
 SimulatedCamera::Counters SimulatedCamera::counters() const {
   std::lock_guard lock(cache_mutex_);
   return counters_;
@@ -134,6 +140,7 @@ void SimulatedCamera::RenderAheadLoop() {
     lock.unlock();
     Radiance(pose, view, false);
     lock.lock();
+    last_rendered_ahead_ = MakeViewKey(pose, view);
   }
 }
 

@@ -62,6 +62,8 @@ class SimulatedCamera {
   // The stage will come to rest at `pose`: render its view now, before the trigger. (Targets
   // of many views: the next view is rendered ahead after each frame.)
   void RenderAhead(const StagePose& pose, int view = 0);
+  // Whether the view at `pose` is rendered: a trigger there costs only the exposure.
+  bool HasView(const StagePose& pose) const;
   // Renders the views at these poses now (blocking) and keeps them for the camera's life.
   void Prerender(const std::vector<StagePose>& poses);
   struct Counters {
@@ -103,6 +105,7 @@ class SimulatedCamera {
   bool ahead_wanted_ = false;
   StagePose ahead_pose_;
   int ahead_view_ = 0;
+  ViewKey last_rendered_ahead_{-1, -1, -1};
   bool quit_ = false;
   std::thread render_ahead_thread_;
 };

@@ -98,6 +98,12 @@ void SimulatedStage::SetOnMoveStarted(std::function<void(const StagePose&)> call
   on_move_started_ = std::move(callback);
 }
 
+void SimulatedStage::SetViewReady(std::function<bool(const StagePose&)> ready) {
+  std::lock_guard lock(mutex_);
+  view_ready_ = std::move(ready);
+  awaiting_view_ = false;
+}
+
 void SimulatedStage::ApplyCommands() {
   for (const auto& [base, axis] :
        {std::pair{reg::kPanBase, &pan_}, std::pair{reg::kTiltBase, &tilt_}}) {
@@ -105,6 +111,7 @@ void SimulatedStage::ApplyCommands() {
     if (command == reg::kStart || command == reg::kHome) {
       // Both axes' commands arrive in separate requests: announce once both are in.
       announce_in_ticks_ = 4;
+      awaiting_view_ = static_cast<bool>(view_ready_);
     }
     switch (command) {
       case reg::kStart:
@@ -135,7 +142,7 @@ void SimulatedStage::PublishRegisters() {
     uint16_t status = 0;
     if (axis->homed() && !axis->alarm() && !axis->moving()) status |= reg::kReady;
     if (axis->moving() || axis->settling()) status |= reg::kMoving;
-    if (axis->in_position()) status |= reg::kInPosition;
+    if (axis->in_position() && !awaiting_view_) status |= reg::kInPosition;
     if (axis->homed()) status |= reg::kHomed;
     if (axis->alarm()) status |= reg::kAlarm;
     if (axis->limit()) status |= reg::kLimit;
@@ -150,6 +157,7 @@ void SimulatedStage::PhysicsLoop() {
     next += std::chrono::microseconds(static_cast<int>(kPhysicsDt * 1e6));
     std::this_thread::sleep_until(next);
     std::function<void(const StagePose&)> notify;
+    std::function<bool(const StagePose&)> ready;
     StagePose goal;
     {
       std::lock_guard lock(mutex_);
@@ -157,12 +165,18 @@ void SimulatedStage::PhysicsLoop() {
       pan_.Step(kPhysicsDt);
       tilt_.Step(kPhysicsDt);
       PublishRegisters();
-      if (announce_in_ticks_ > 0 && --announce_in_ticks_ == 0 && on_move_started_) {
+      if (announce_in_ticks_ > 0 && --announce_in_ticks_ == 0) {
+        announced_goal_ = {pan_.goal_deg(), tilt_.goal_deg()};
         notify = on_move_started_;
-        goal = {pan_.goal_deg(), tilt_.goal_deg()};
       }
+      goal = announced_goal_;
+      if (awaiting_view_ && announce_in_ticks_ <= 0) ready = view_ready_;
     }
     if (notify) notify(goal);
+    if (ready && ready(goal)) {
+      std::lock_guard lock(mutex_);
+      if (announce_in_ticks_ <= 0) awaiting_view_ = false;  // unless a new move came meanwhile
+    }
   }
 }
 

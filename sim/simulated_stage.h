@@ -52,6 +52,11 @@ class SimulatedStage {
   // Called (on the physics thread) with the pose where the axes will come to rest, shortly
   // after a move starts, so that a simulated camera can render it while the stage moves.
   void SetOnMoveStarted(std::function<void(const StagePose&)> callback);
+  // Until `ready` says the view at the announced pose has been rendered, the axes come to rest
+  // without reporting IN_POSITION, so no trigger comes before the view exists: a real camera
+  // exposes in its exposure time, but a simulated one that rendered on a trigger would hold up
+  // the thread that also answers its control channel (seconds under load: the client lost it).
+  void SetViewReady(std::function<bool(const StagePose&)> ready);
   void Stop();
 
  private:
@@ -70,6 +75,9 @@ class SimulatedStage {
   _modbus_mapping_t* mapping_ = nullptr;
   std::function<void(const StagePose&)> on_move_started_;
   int announce_in_ticks_ = -1;  // counts down to announcing the goal of a new move
+  std::function<bool(const StagePose&)> view_ready_;
+  bool awaiting_view_ = false;  // a move started and its view is not yet rendered
+  StagePose announced_goal_;
   std::atomic<bool> stop_{false};
   std::vector<std::thread> threads_;
   std::vector<void*> contexts_;

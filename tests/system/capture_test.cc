@@ -39,12 +39,14 @@ class CaptureTest : public ::testing::Test {
     station_ = *sim::BuildSimStation(options);
   }
 
-  // Starts the simulated hardware with faults; the stage on a port of its own.
+  // Starts the simulated hardware with faults; the stage on a port of its own. With
+  // `prerender`, the default plan's views are rendered first (`sim serve --prerender`).
   void Serve(int port, const sim::SimFaults& faults = {},
-             std::shared_ptr<const sim::SimStation> station = nullptr) {
+             std::shared_ptr<const sim::SimStation> station = nullptr, bool prerender = false) {
     sim::SimServeOptions o;
     o.stage_port = port;
     o.faults = faults;
+    if (prerender) o.prerender_targets = sim::DesignPlanTargets(station ? *station : *station_);
     auto server = sim::SimServer::Start(station ? station : station_, o);
     ASSERT_TRUE(server.ok()) << server.error();
     server_ = std::move(*server);
@@ -100,7 +102,9 @@ class CaptureTest : public ::testing::Test {
 std::shared_ptr<const sim::SimStation> CaptureTest::station_;
 
 TEST_F(CaptureTest, CapturesACompleteValidPanorama) {
-  Serve(15150);
+  // Prerendered: the timeline is the stage's and the cameras' own, not the simulator's render
+  // (a view still rendering holds the simulated stage short of IN_POSITION).
+  Serve(15150, {}, nullptr, true);
   const Result<CaptureSummary> s = Capture(WriteRig(), false, CaptureOptions{});
   ASSERT_TRUE(s.ok()) << s.error();
   EXPECT_EQ(s->total_pairs, 12);

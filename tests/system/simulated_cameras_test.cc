@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 #include "devices/aravis_camera.h"
@@ -117,6 +118,38 @@ TEST_F(SimulatedCameras, PrerenderedPosesAreServedAtOnceAndEqualTheOfflineRender
   const SimulatedCamera::Counters c = (*server)->camera(Side::kLeft).counters();
   EXPECT_GE(c.frames, 1);
   EXPECT_EQ(c.waited_for_render, 0);
+}
+
+// A move comes to rest in position only once both cameras have rendered its view, however
+// long the render takes beside the move: a trigger then never waits for a render (which would
+// run in the thread that answers the camera's control channel). A short move against a slow
+// render (supersampling 8: seconds per view) would otherwise trigger first.
+TEST_F(SimulatedCameras, AMoveIsInPositionOnlyOnceBothCamerasHaveItsView) {
+  SimServeOptions o = Options(15136);
+  o.render.supersampling = 8;
+  auto server = SimServer::Start(station_, o);
+  ASSERT_TRUE(server.ok()) << server.error();
+  StageEndpoint endpoint;
+  endpoint.port = 15136;
+  auto stage = OpenModbusStage(endpoint);
+  ASSERT_TRUE(stage.ok()) << stage.error();
+  ASSERT_TRUE((*stage)->Home(std::chrono::milliseconds(30000)).ok());
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result<StagePose> at = (*stage)->MoveTo({1.0, 0.0}, 0.05, std::chrono::milliseconds(20000));
+  ASSERT_TRUE(at.ok()) << at.error();
+  const double move_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const StagePose rest = (*server)->stage().Pose();
+  for (Side side : {Side::kLeft, Side::kRight})
+    EXPECT_TRUE((*server)->camera(side).HasView(rest)) << "in position after " << move_s << " s";
+  auto camera = Started("TS-SIM-R", PixelFormat::kMono8, 5000);
+  ASSERT_TRUE(camera.ok()) << camera.error();
+  const Result<Frame> grab = Grab(**camera);
+  ASSERT_TRUE(grab.ok()) << grab.error();
+  const SimulatedCamera::Counters c = (*server)->camera(Side::kRight).counters();
+  EXPECT_GE(c.frames, 1);
+  EXPECT_EQ(c.waited_for_render, 0);
+  std::printf("1 deg of pan with its view rendered: %.2f s\n", move_s);
 }
 
 // A frame that began before the trigger we wait for is an earlier one, arrived late: dropped.
