@@ -38,6 +38,7 @@ struct SurveyArgs {
   sim::SimStationOptions station;
   std::string out;
   std::string truth;
+  std::string calibration_file;  // an earlier session's (--sim)
   bool nominal_calibration = false;
   bool true_calibration = false;
   bool no_self_calibration = false;
@@ -113,6 +114,8 @@ void RefuseExistingStation(const std::string& out) {
 // The survey on a real rig, without the daemon: capture, the stage self-calibrated on the
 // station's seams, the products.
 void RunRigSurvey(const SurveyArgs& args) {
+  if (!args.calibration_file.empty())
+    throw CommandError("survey: --calibration is for --sim; a rig's calibration is its rig file's");
   RefuseExistingStation(args.out);
   Result<RigConfig> rig = LoadRigConfig(args.rig_file);
   if (!rig) throw CommandError(rig.error());
@@ -150,8 +153,9 @@ void RunSurvey(const SurveyArgs& args) {
   const bool tty = ::isatty(STDERR_FILENO) && !args.json;
   const std::string truth_dir = args.truth.empty() ? args.out + "-truth" : args.truth;
 
-  if (args.nominal_calibration && args.true_calibration)
-    throw CommandError("survey: --nominal-calibration or --true-calibration, not both");
+  if (args.nominal_calibration + args.true_calibration + !args.calibration_file.empty() > 1)
+    throw CommandError(
+        "survey: --calibration, --nominal-calibration or --true-calibration, one of them");
   auto built = sim::BuildSimStation(args.station);
   if (!built) throw CommandError(built.error());
   std::shared_ptr<const sim::SimStation> station = *built;
@@ -159,14 +163,20 @@ void RunSurvey(const SurveyArgs& args) {
   std::string calibration_used;
   RigConfig rig;
   if (!args.nominal_calibration && !args.true_calibration) {
-    process.calibration_file = CalibrateAtAField(*station, args.out + "-calibration", truth_dir);
+    process.calibration_file =
+        args.calibration_file.empty()
+            ? CalibrateAtAField(*station, args.out + "-calibration", truth_dir)
+            : args.calibration_file;
     const Result<Calibration> calibrated = LoadCalibrationYaml(process.calibration_file);
     if (!calibrated) throw CommandError(calibrated.error());
     rig.calibration = *calibrated;
     process.self_calibrate_rig = !args.no_self_calibration;
-    calibration_used = "estimated: a control-field session (" + process.calibration_file + ")" +
-                       (args.no_self_calibration ? ", the stage as calibrated"
-                                                 : ", the stage self-calibrated on the seams");
+    calibration_used =
+        std::string(args.calibration_file.empty() ? "estimated: a control-field session"
+                                                  : "estimated: an earlier session") +
+        " (" + process.calibration_file + ")" +
+        (args.no_self_calibration ? ", the stage as calibrated"
+                                  : ", the stage self-calibrated on the seams");
   }
   if (args.bump_rig) {  // after the calibration session, before the survey
     auto bumped = std::make_shared<sim::SimStation>(*station);
@@ -246,6 +256,9 @@ void AddSurveyCommand(CLI::App& app) {
   s->add_option("--out", args->out, "station directory to create")->required();
   s->add_option("--truth", args->truth, "truth directory (default: STATION-truth beside it)");
   AddDeclaredOption(s, "--exposure-us", args->capture, "initial_exposure_us");
+  s->add_option("--calibration", args->calibration_file,
+                "--sim: the rig's calibration from an earlier session of this rig (default: a "
+                "control-field session first, written beside --out)");
   s->add_flag("--nominal-calibration", args->nominal_calibration,
               "capture and process with the rig's design values (no calibration session)");
   s->add_flag("--true-calibration", args->true_calibration,

@@ -101,7 +101,10 @@ TEST(SurveySim, TwoEpochsRecoverASubsidenceBowl) {
     ASSERT_EQ(r.exit_code, 0) << r.out;
   };
   survey("e1", "");
-  survey("e2", "--epoch 2 --subsidence 9.5,6.5,7,0.5 --sun 120,40");
+  // The second epoch with the first's calibration, as a campaign reuses one session.
+  survey("e2", "--epoch 2 --subsidence 9.5,6.5,7,0.5 --sun 120,40 --calibration " +
+                   (dir / "e1-calibration/calibration.yaml"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "e2-calibration"));
   const auto r = RunCommand(Exe() + " diff " + (dir / "e1") + " " + (dir / "e2") + " --out " +
                             (dir / "change") + " --truth " + (dir / "e2-truth") + " --json 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.out;
@@ -160,6 +163,15 @@ TEST(SurveySim, RefusesAnExistingStationAndAMissingRig) {
                  " 2>&1");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("no-rig.yaml"), std::string::npos) << r.out;
+  r = RunCommand(Exe() + " survey --sim --calibration " + (dir / "no-cal.yaml") + " --out " +
+                 (dir / "T") + " 2>&1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("no-cal.yaml"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "T/station.json"));
+  r = RunCommand(Exe() + " survey --sim --calibration " + (dir / "no-cal.yaml") +
+                 " --true-calibration --out " + (dir / "T") + " 2>&1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("one of them"), std::string::npos) << r.out;
 }
 
 }  // namespace
