@@ -293,13 +293,13 @@ std::optional<ImageSigmas> EstimateImageSigmas(const ImageSums& sums, int parame
 
 // `robust`: a Huber loss on the images, for the first round, before mismatched tie points are
 // rejected; after it plain least squares, which converges in a few Gauss-Newton steps where
-// the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred.
-void BuildProblem(const RigAdjustmentInput& in, const RigAdjustmentOptions& o, bool robust,
-                  const ImageSigmas& pixel_sigma, const std::vector<double>& prior,
-                  const std::set<int>& held, const std::vector<char>& rejected, Unknowns* u,
-                  ceres::Problem* problem) {
+// the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred. `control`:
+// in.ControlPoints().
+void BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& control,
+                  const RigAdjustmentOptions& o, bool robust, const ImageSigmas& pixel_sigma,
+                  const std::vector<double>& prior, const std::set<int>& held,
+                  const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
   const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
-  const std::vector<char> control = in.ControlPoints();
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
@@ -521,14 +521,17 @@ int SurveyRedundancy(const RigAdjustmentInput& in, const Unknowns& u,
   return redundancy;
 }
 
+// `target_sigma_px`: the targets' variance component.
 std::vector<RigAdjustment::ControlFit> ControlFits(const RigAdjustmentInput& in, const Unknowns& u,
                                                    const std::vector<double>& squared,
-                                                   const std::vector<char>& rejected) {
+                                                   const std::vector<char>& rejected,
+                                                   double target_sigma_px) {
   std::vector<RigAdjustment::ControlFit> fits;
   for (size_t f = 0; f < in.control_fields.size(); ++f) {
     const RigControlField& field = in.control_fields[f];
     RigAdjustment::ControlFit fit;
     fit.l_from_field = IsometryOf(u.field_pose[f]);
+    fit.image_sigma_px = target_sigma_px;
     std::vector<char> target(in.points.size(), 0);
     for (int point : field.points) target[point] = 1;
     std::vector<char> seen(in.points.size(), 0);
@@ -615,10 +618,10 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
 
 // Marks the observations off by more than k sigma (a mismatched tie point), and every
 // observation of a point that no longer ties two poses (its position would be free along a
-// ray); true when the marks changed.
-bool Reject(const RigAdjustmentInput& in, const std::vector<double>& squares,
-            const ImageSigmas& sigma, std::vector<char>* rejected) {
-  const std::vector<char> control = in.ControlPoints();
+// ray); true when the marks changed. `control`: in.ControlPoints().
+bool Reject(const RigAdjustmentInput& in, const std::vector<char>& control,
+            const std::vector<double>& squares, const ImageSigmas& sigma,
+            std::vector<char>* rejected) {
   std::vector<char> marks(squares.size());
   std::vector<std::set<int>> poses_of(in.points.size());
   for (size_t i = 0; i < squares.size(); ++i) {
@@ -671,7 +674,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     for (int i : held) u.Parameter(i) = prior[i];
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
-    BuildProblem(in, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
+    BuildProblem(in, control, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
     const std::vector<char> problem_rejected = rejected;
     if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
@@ -684,7 +687,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     bool reweigh = false;
     for (int kind : {0, 1})
       reweigh |= std::abs(image_sigma->sigma[kind] / pixel_sigma.sigma[kind] - 1.0) > 0.05;
-    const bool marks_changed = Reject(in, squared, *image_sigma, &rejected);
+    const bool marks_changed = Reject(in, control, squared, *image_sigma, &rejected);
     if ((reweigh || marks_changed) && weighing++ < kMaxWeightRounds) {
       pixel_sigma = *image_sigma;
       continue;
@@ -717,8 +720,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     }
     r.stage = StageKinematicsOf(stage, in.calibration.stage);
     r.points = u.points;
-    r.control = ControlFits(in, u, squared, rejected);
-    for (RigAdjustment::ControlFit& fit : r.control) fit.image_sigma_px = image_sigma->sigma[1];
+    r.control = ControlFits(in, u, squared, rejected, image_sigma->sigma[1]);
     return r;
   }
 }
