@@ -73,10 +73,9 @@ SimServer::~SimServer() {
   }
   quit_changed_.notify_all();
   if (fault_thread_.joinable()) fault_thread_.join();
-  if (stage_) {
-    stage_->SetOnMoveStarted({});
-    stage_->SetViewReady({});
-  }
+  // The stage's physics thread calls into the cameras (render ahead, view ready): stopped
+  // before they go; their threads read its pose until then, so it goes last.
+  if (stage_) stage_->Stop();
   left_.reset();
   right_.reset();
   stage_.reset();
