@@ -13,11 +13,10 @@
 namespace ts::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 Lighting RandomSun(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> azimuth(0.0, 2.0 * kPi), elevation(35.0, 60.0);
-  const double az = azimuth(rng), el = elevation(rng) * kPi / 180.0;
+  std::uniform_real_distribution<double> azimuth(0.0, 2.0 * std::numbers::pi),
+      elevation(35.0, 60.0);
+  const double az = azimuth(rng), el = elevation(rng) * std::numbers::pi / 180.0;
   Lighting l;
   l.to_sun = SunDirection(az, el);
   return l;
@@ -116,7 +115,7 @@ Result<Scene> MakeBuiltinScene(const std::string& name, uint64_t seed) {
   scene.seed = seed;
   std::mt19937_64 rng(Hash(seed, 0x5ce7e, 0));
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const double direction = 2.0 * kPi * unit(rng);
+  const double direction = 2.0 * std::numbers::pi * unit(rng);
   const double cd = std::cos(direction), sd = std::sin(direction);
   const uint64_t s = Hash(seed, 1, 2);
   if (name == "flat") {
@@ -129,13 +128,13 @@ Result<Scene> MakeBuiltinScene(const std::string& name, uint64_t seed) {
     FillLattice(&scene, [&](double x, double y) { return 9.0 * Relief(s, x, y, 80.0, 5.0); });
   } else if (name == "slope") {
     const double slope_deg = 15.0 + 10.0 * unit(rng);
-    const double grade = std::tan(slope_deg * kPi / 180.0);
+    const double grade = std::tan(slope_deg * std::numbers::pi / 180.0);
     FillLattice(&scene, [&](double x, double y) {
       return grade * (cd * x + sd * y) + 2.0 * Relief(s, x, y, 40.0, 5.0);
     });
   } else if (name == "rough") {
     const std::vector<Rock> rocks = RandomRocks(rng, 70);
-    const double step_dir = 2.0 * kPi * unit(rng);
+    const double step_dir = 2.0 * std::numbers::pi * unit(rng);
     FillLattice(&scene, [&](double x, double y) {
       double h = 6.0 * Relief(s, x, y, 60.0, 8.0);
       // Gullies along the zero lines of a slow noise field.

@@ -14,8 +14,6 @@
 namespace ts::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 double Uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);
 }
@@ -28,7 +26,7 @@ struct Frame {
 };
 
 Frame RandomFrame(std::mt19937_64& rng) {
-  const double a = Uniform(rng, 0.0, 2.0 * kPi);
+  const double a = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
   return {std::cos(a), std::sin(a)};
 }
 

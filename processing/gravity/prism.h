@@ -16,6 +16,7 @@
 namespace ts {
 
 inline constexpr double kGravitationalConstant = 6.6743e-11;  // m^3 kg^-1 s^-2 (CODATA 2018)
+inline constexpr double kStandardDensityKgM3 = 2670.0;        // the standard crustal density
 inline constexpr double kMgalPerMs2 = 1e5;                    // 1 mGal = 1e-5 m/s^2
 
 // Downward attraction at the origin of the prism between the two corners (relative to the

@@ -27,12 +27,13 @@
 
 #include "core/options.h"
 #include "processing/dem/cell_ground.h"
+#include "processing/gravity/prism.h"
 #include "processing/io/raster.h"
 
 namespace ts {
 
 struct TerrainCorrectionOptions {
-  double density_kg_m3 = 2670.0;
+  double density_kg_m3 = kStandardDensityKgM3;
   double sensor_height_m = 0.0;  // gravimeter sensor above the station mark
   double radius_m = 0.0;         // cells whose centre is within it; 0: the whole DEM
   double refine_radius_m = 6.0;

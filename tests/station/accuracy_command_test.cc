@@ -10,13 +10,14 @@
 namespace ts {
 namespace {
 
-const std::string kExe = TS_TOPOSTATION_EXE;
+const std::string kTopostation = TS_TOPOSTATION_EXE;
 const std::string kRig = TS_SOURCE_DIR "/config/rig.example.yaml";
 
 TEST(AccuracyCommand, JsonRowsForThePaperRig) {
   testing::TempDir dir;
   const std::string plot = dir / "accuracy.png";
-  const auto r = testing::RunCommand(kExe + " accuracy --rig " + kRig + " --json --plot " + plot);
+  const auto r =
+      testing::RunCommand(kTopostation + " accuracy --rig " + kRig + " --json --plot " + plot);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const nlohmann::json doc = nlohmann::json::parse(r.out);
   const auto& rows = doc.at("rows");
@@ -42,7 +43,7 @@ TEST(AccuracyCommand, JsonRowsForThePaperRig) {
 TEST(AccuracyCommand, PrintsATable) {
   testing::TempDir dir;
   const auto r =
-      testing::RunCommand(kExe + " accuracy --rig " + kRig + " --plot " + (dir / "p.png"));
+      testing::RunCommand(kTopostation + " accuracy --rig " + kRig + " --plot " + (dir / "p.png"));
   ASSERT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("sigma_y_m"), std::string::npos);
   EXPECT_NE(r.out.find("     30.0       "), std::string::npos) << r.out;
@@ -52,10 +53,10 @@ TEST(AccuracyCommand, BadRigGivesOneLineOnStderrAndNonZeroExit) {
   testing::TempDir dir;
   const std::string rig = dir / "bad.yaml";
   { std::ofstream(rig) << "schema_version: 1\nname: x\n"; }
-  const auto r = testing::RunCommand(kExe + " accuracy --rig " + rig + " 2>&1");
+  const auto r = testing::RunCommand(kTopostation + " accuracy --rig " + rig + " 2>&1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(r.out, "topostation: " + rig + ": devices: missing\n");
-  const auto missing = testing::RunCommand(kExe + " accuracy --rig /no/such.yaml 2>&1");
+  const auto missing = testing::RunCommand(kTopostation + " accuracy --rig /no/such.yaml 2>&1");
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_NE(missing.out.find("/no/such.yaml: cannot read file"), std::string::npos);
 }

@@ -11,17 +11,16 @@
 namespace ts {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // The raised-cosine bowl of the simulator, written out again here: depth D at the centre,
 // zero from radius R; volume (1/2 - 2/pi^2) pi D R^2.
 double Bowl(double x, double y, double cx, double cy, double depth, double radius) {
   const double r = std::hypot(x - cx, y - cy);
-  return r >= radius ? 0.0 : depth * 0.5 * (1.0 + std::cos(kPi * r / radius));
+  return r >= radius ? 0.0 : depth * 0.5 * (1.0 + std::cos(std::numbers::pi * r / radius));
 }
 
 double BowlVolume(double depth, double radius) {
-  return (0.5 - 2.0 / (kPi * kPi)) * kPi * depth * radius * radius;
+  return (0.5 - 2.0 / (std::numbers::pi * std::numbers::pi)) * std::numbers::pi * depth * radius *
+         radius;
 }
 
 // A 60 m square at `cell` around the origin: a gentle plane, minus `lowering(x, y)`.
@@ -76,8 +75,9 @@ TEST(DemOfDifference, BowlVolumeDepthAreaAndOneRegion) {
   EXPECT_LT(c->lowering.volume_m3, BowlVolume(depth, radius));
   EXPECT_GT(c->lowering.volume_m3, 0.97 * BowlVolume(depth, radius));
   // Area: the disc where the cosine profile reaches the LoD.
-  const double r_lod = radius / kPi * std::acos(2.0 * lod / depth - 1.0);
-  EXPECT_NEAR(c->lowering.area_m2, kPi * r_lod * r_lod, 0.05 * kPi * r_lod * r_lod);
+  const double r_lod = radius / std::numbers::pi * std::acos(2.0 * lod / depth - 1.0);
+  EXPECT_NEAR(c->lowering.area_m2, std::numbers::pi * r_lod * r_lod,
+              0.05 * std::numbers::pi * r_lod * r_lod);
   EXPECT_NEAR(c->lowering.sigma_m3, sigma * std::sqrt(cells), 1e-5);
   EXPECT_NEAR(c->lowering.sigma_correlated_m3, sigma * cells, 1e-4);
   EXPECT_EQ(c->raising.cells, 0);

@@ -14,7 +14,7 @@
 namespace ts {
 namespace {
 
-struct Scene {
+struct HorizonScene {
   std::vector<Eigen::Vector3d> points;
   std::vector<uint8_t> ground;
   void Ring(double from_m, double to_m, bool is_ground,
@@ -39,7 +39,7 @@ Raster Extrapolated() {
   return dem;
 }
 
-const Eigen::Vector3d kViewpoint(0.0, 0.0, 1.5);
+const Eigen::Vector3d kStationEye(0.0, 0.0, 1.5);
 
 // The hidden cells 12-16 m out (0.1 d above the horizon by over 0.2 m, within edge_m of the
 // seen ground: kriging's reach) lowered to the line of sight over the brow, 1.5 - 0.05 d;
@@ -58,10 +58,10 @@ int ExpectHollowLoweredToTheLineOfSight(const Raster& dem) {
 }
 
 TEST(HorizonLimit, LowersTheHollowBehindABrowToTheLineOfSight) {
-  Scene s;
+  HorizonScene s;
   s.Ring(2.0, 10.0, true, Rise);
   Raster dem = Extrapolated();
-  const HorizonLimitResult result = LimitToHorizon(s.points, s.ground, kViewpoint, {}, &dem);
+  const HorizonLimitResult result = LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem);
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       const double d = std::hypot(dem.CellCentreX(c), dem.CellCentreY(r));
@@ -79,43 +79,43 @@ TEST(HorizonLimit, LowersTheHollowBehindABrowToTheLineOfSight) {
 // or an embankment's top): the points on it stand on the terrain, not above it, and still set
 // the horizon the hollow behind lies below.
 TEST(HorizonLimit, ABrowLeftOutByTheGroundFilterStillHidesTheHollow) {
-  Scene s;
+  HorizonScene s;
   s.Ring(2.0, 9.0, true, Rise);
   s.Ring(9.25, 10.0, false, Rise);
   Raster dem = Extrapolated();
-  const HorizonLimitResult result = LimitToHorizon(s.points, s.ground, kViewpoint, {}, &dem);
+  const HorizonLimitResult result = LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem);
   const int lowered = ExpectHollowLoweredToTheLineOfSight(dem);
   EXPECT_GT(lowered, 20);
   EXPECT_GE(result.cells_lowered, lowered);
 }
 
 TEST(HorizonLimit, LeavesGroundBetweenSeenGroundAndBehindObjects) {
-  Scene between;  // the far side of the hollow is seen too: the hollow is interpolated
+  HorizonScene between;  // the far side of the hollow is seen too: the hollow is interpolated
   between.Ring(2.0, 10.0, true, Rise);
   between.Ring(18.0, 22.0, true, [](double) { return 1.6; });
   Raster dem = Extrapolated();
-  EXPECT_EQ(LimitToHorizon(between.points, between.ground, kViewpoint, {}, &dem).cells_lowered, 0);
+  EXPECT_EQ(LimitToHorizon(between.points, between.ground, kStationEye, {}, &dem).cells_lowered, 0);
   EXPECT_EQ(dem.values, Extrapolated().values);
 
-  Scene tree;  // a canopy over the brow sets the horizon: the ground behind may rise
+  HorizonScene tree;  // a canopy over the brow sets the horizon: the ground behind may rise
   tree.Ring(2.0, 10.0, true, Rise);
   tree.Ring(9.5, 9.5, false, [](double) { return 3.0; });
-  EXPECT_EQ(LimitToHorizon(tree.points, tree.ground, kViewpoint, {}, &dem).cells_lowered, 0);
+  EXPECT_EQ(LimitToHorizon(tree.points, tree.ground, kStationEye, {}, &dem).cells_lowered, 0);
 
-  Scene brow;
+  HorizonScene brow;
   brow.Ring(2.0, 10.0, true, Rise);
   HorizonLimitOptions off;
   off.enabled = false;
-  EXPECT_EQ(LimitToHorizon(brow.points, brow.ground, kViewpoint, off, &dem).cells_lowered, 0);
+  EXPECT_EQ(LimitToHorizon(brow.points, brow.ground, kStationEye, off, &dem).cells_lowered, 0);
   EXPECT_EQ(dem.values, Extrapolated().values);
 }
 
-double Level(double) { return 0.0; }
+double FlatGround(double) { return 0.0; }
 
 // Level ground seen from 2 to 10 m and, unless bush_height_m is 0, a bush from 10 to 10.5 m.
-Scene BushBehindLevelGround(double bush_height_m) {
-  Scene s;
-  s.Ring(2.0, 10.0, true, Level);
+HorizonScene BushBehindLevelGround(double bush_height_m) {
+  HorizonScene s;
+  s.Ring(2.0, 10.0, true, FlatGround);
   if (bush_height_m > 0.0) s.Ring(10.25, 10.5, false, [&](double) { return bush_height_m; });
   return s;
 }
@@ -137,14 +137,14 @@ void LevelDem(double height_m, Raster* dem, Raster* std) {
 double FromSeenGround(double x, double y) { return std::max(0.0, std::hypot(x, y) - 10.0); }
 
 TEST(HorizonLimit, KeepsGroundInAnObjectsShadowUpToItsReach) {
-  const Scene s = BushBehindLevelGround(1.0);
+  const HorizonScene s = BushBehindLevelGround(1.0);
   Raster dem, std;
   LevelDem(0.0, &dem, &std);
   const Raster given = dem;
   HorizonLimitOptions o;  // reach 7 m behind objects
   const double data_reach = 5.5;
   const HorizonLimitResult result =
-      LimitToHorizon(s.points, s.ground, kViewpoint, o, &dem, &std, data_reach);
+      LimitToHorizon(s.points, s.ground, kStationEye, o, &dem, &std, data_reach);
   int kept = 0, dropped = 0;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
@@ -168,10 +168,10 @@ TEST(HorizonLimit, KeepsGroundInAnObjectsShadowUpToItsReach) {
 
 TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
   const double data_reach = 5.5;
-  auto far_cells_kept = [&](const Scene& s, double height_behind_m) {
+  auto far_cells_kept = [&](const HorizonScene& s, double height_behind_m) {
     Raster dem, std;
     LevelDem(height_behind_m, &dem, &std);
-    LimitToHorizon(s.points, s.ground, kViewpoint, {}, &dem, &std, data_reach);
+    LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem, &std, data_reach);
     int kept = 0;
     for (int r = 0; r < dem.rows; ++r)
       for (int c = 0; c < dem.cols; ++c) {
@@ -190,7 +190,7 @@ TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
   // Ground behind the bush standing above its line of sight would have been seen.
   EXPECT_EQ(far_cells_kept(BushBehindLevelGround(1.0), 1.2), 0);
   // A bush on a brow, over a hollow that the brow hides as well: the hollow is not the bush's.
-  Scene brow_bush;
+  HorizonScene brow_bush;
   brow_bush.Ring(2.0, 10.0, true, Rise);
   brow_bush.Ring(10.25, 10.5, false, [](double) { return 2.0; });
   Raster hollow = Extrapolated(), hollow_std = Extrapolated();
@@ -200,16 +200,16 @@ TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
       if (d > 12.0) hollow.at(r, c) = static_cast<float>(1.5 - 0.05 * d - 0.5);
     }
   const HorizonLimitResult behind_brow = LimitToHorizon(
-      brow_bush.points, brow_bush.ground, kViewpoint, {}, &hollow, &hollow_std, data_reach);
+      brow_bush.points, brow_bush.ground, kStationEye, {}, &hollow, &hollow_std, data_reach);
   EXPECT_EQ(behind_brow.cells_in_object_shadows, 0);
   EXPECT_GT(behind_brow.cells_unexplained, 5);
   // Switched off: no cell beyond kriging's reach.
   HorizonLimitOptions none;
   none.object_shadow_reach_m = 0.0;
-  const Scene bush = BushBehindLevelGround(1.0);
+  const HorizonScene bush = BushBehindLevelGround(1.0);
   Raster dem, std;
   LevelDem(0.0, &dem, &std);
-  EXPECT_EQ(LimitToHorizon(bush.points, bush.ground, kViewpoint, none, &dem, &std, data_reach)
+  EXPECT_EQ(LimitToHorizon(bush.points, bush.ground, kStationEye, none, &dem, &std, data_reach)
                 .cells_in_object_shadows,
             0);
 }
@@ -221,10 +221,10 @@ TEST(HorizonLimit, RejectsBadInput) {
   std::string why;
   EXPECT_FALSE(bad.Check(&why));
   EXPECT_NE(why.find("edge_m"), std::string::npos);
-  EXPECT_THROW(LimitToHorizon({}, {}, kViewpoint, bad, &dem), std::invalid_argument);
-  EXPECT_THROW(LimitToHorizon({{1, 0, 0}}, {}, kViewpoint, {}, &dem), std::invalid_argument);
+  EXPECT_THROW(LimitToHorizon({}, {}, kStationEye, bad, &dem), std::invalid_argument);
+  EXPECT_THROW(LimitToHorizon({{1, 0, 0}}, {}, kStationEye, {}, &dem), std::invalid_argument);
   Raster other_grid = Raster::Make(0.0, 5.0, 1.0, 10, 10);
-  EXPECT_THROW(LimitToHorizon({}, {}, kViewpoint, {}, &dem, &other_grid), std::invalid_argument);
+  EXPECT_THROW(LimitToHorizon({}, {}, kStationEye, {}, &dem, &other_grid), std::invalid_argument);
   HorizonLimitOptions bad_reach;
   bad_reach.object_shadow_reach_m = -1.0;
   EXPECT_FALSE(bad_reach.Check(&why));

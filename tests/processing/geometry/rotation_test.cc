@@ -9,12 +9,13 @@
 namespace ts {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(Rotation, ElementaryRotationsAreActiveAndRightHanded) {
-  EXPECT_TRUE((RotationZ(kPi / 2) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
-  EXPECT_TRUE((RotationX(kPi / 2) * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ()));
-  EXPECT_TRUE((RotationY(kPi / 2) * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE((RotationZ(std::numbers::pi / 2) * Eigen::Vector3d::UnitX())
+                  .isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE((RotationX(std::numbers::pi / 2) * Eigen::Vector3d::UnitY())
+                  .isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE((RotationY(std::numbers::pi / 2) * Eigen::Vector3d::UnitZ())
+                  .isApprox(Eigen::Vector3d::UnitX()));
   for (const Eigen::Matrix3d& r : {RotationX(0.3), RotationY(-1.1), RotationZ(2.5)}) {
     EXPECT_NEAR((r * r.transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-15);
     EXPECT_NEAR(r.determinant(), 1.0, 1e-15);
@@ -23,7 +24,8 @@ TEST(Rotation, ElementaryRotationsAreActiveAndRightHanded) {
 
 TEST(Rotation, OpkRoundTrip) {
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> any(-kPi, kPi), half(-kPi / 2 + 1e-3, kPi / 2 - 1e-3);
+  std::uniform_real_distribution<double> any(-std::numbers::pi, std::numbers::pi),
+      half(-std::numbers::pi / 2 + 1e-3, std::numbers::pi / 2 - 1e-3);
   for (int i = 0; i < 1000; ++i) {
     const Opk in{any(rng), half(rng), any(rng)};
     const Opk out = OpkFromRotation(RotationFromOpk(in));
@@ -34,7 +36,7 @@ TEST(Rotation, OpkRoundTrip) {
 }
 
 TEST(Rotation, OpkAtGimbalLockKeepsTheRotation) {
-  for (double phi : {kPi / 2, -kPi / 2}) {
+  for (double phi : {std::numbers::pi / 2, -std::numbers::pi / 2}) {
     const Eigen::Matrix3d r = RotationFromOpk({0.4, phi, -0.7});
     const Opk out = OpkFromRotation(r);
     EXPECT_DOUBLE_EQ(out.kappa_rad, 0.0);
@@ -60,7 +62,8 @@ TEST(Rotation, AzElRollElementsOfSeed004) {
 
 TEST(Rotation, AzElRollRoundTripAndGimbalLock) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> any(-kPi, kPi), half(-kPi / 2 + 1e-3, kPi / 2 - 1e-3);
+  std::uniform_real_distribution<double> any(-std::numbers::pi, std::numbers::pi),
+      half(-std::numbers::pi / 2 + 1e-3, std::numbers::pi / 2 - 1e-3);
   for (int i = 0; i < 1000; ++i) {
     const AzElRoll in{any(rng), half(rng), any(rng)};
     const AzElRoll out = AzElRollFromRotation(RotationFromAzElRoll(in));
@@ -68,7 +71,7 @@ TEST(Rotation, AzElRollRoundTripAndGimbalLock) {
     EXPECT_NEAR(out.elevation_rad, in.elevation_rad, 1e-9);
     EXPECT_NEAR(out.roll_rad, in.roll_rad, 1e-9);
   }
-  const Eigen::Matrix3d locked = RotationFromAzElRoll({0.3, kPi / 2, 0.2});
+  const Eigen::Matrix3d locked = RotationFromAzElRoll({0.3, std::numbers::pi / 2, 0.2});
   EXPECT_NEAR((RotationFromAzElRoll(AzElRollFromRotation(locked)) - locked).norm(), 0.0, 1e-12);
 }
 
@@ -84,8 +87,8 @@ TEST(Rotation, ConvertsBetweenConventionsThroughTheMatrix) {
 }
 
 TEST(Rotation, DegreesAndRadians) {
-  EXPECT_DOUBLE_EQ(RadFromDeg(180.0), kPi);
-  EXPECT_DOUBLE_EQ(DegFromRad(kPi / 2), 90.0);
+  EXPECT_DOUBLE_EQ(RadFromDeg(180.0), std::numbers::pi);
+  EXPECT_DOUBLE_EQ(DegFromRad(std::numbers::pi / 2), 90.0);
 }
 
 }  // namespace

@@ -7,16 +7,15 @@
 namespace ts {
 namespace {
 
-constexpr double kRho = 2670.0;
 constexpr double kG = kGravitationalConstant;
 
 // A slab 10 m thick under the point: a square prism growing to 1e9 m sides converges to the
 // Bouguer slab 2 pi G rho h, monotonically from below.
 TEST(Prism, ConvergesToTheBouguerSlab) {
-  const double h = 10.0, slab = 2 * M_PI * kG * kRho * h;
+  const double h = 10.0, slab = 2 * M_PI * kG * kStandardDensityKgM3 * h;
   double previous = 0.0;
   for (double a = 10.0; a <= 1e9; a *= 10.0) {
-    const double g = PrismDownwardAttraction({-a, -a, -h}, {a, a, 0.0}, kRho);
+    const double g = PrismDownwardAttraction({-a, -a, -h}, {a, a, 0.0}, kStandardDensityKgM3);
     EXPECT_GE(g, previous) << a;  // (at 1e9 m the steps fall below double resolution)
     EXPECT_LE(g, slab * (1 + 1e-12)) << a;
     previous = g;
@@ -25,17 +24,19 @@ TEST(Prism, ConvergesToTheBouguerSlab) {
 }
 
 TEST(Prism, MassAboveAttractsUpward) {
-  EXPECT_LT(PrismDownwardAttraction({-5, -5, 1}, {5, 5, 3}, kRho), 0.0);
-  EXPECT_NEAR(PrismDownwardAttraction({-5, -5, 1}, {5, 5, 3}, kRho),
-              -PrismDownwardAttraction({-5, -5, -3}, {5, 5, -1}, kRho), 1e-18);
+  EXPECT_LT(PrismDownwardAttraction({-5, -5, 1}, {5, 5, 3}, kStandardDensityKgM3), 0.0);
+  EXPECT_NEAR(PrismDownwardAttraction({-5, -5, 1}, {5, 5, 3}, kStandardDensityKgM3),
+              -PrismDownwardAttraction({-5, -5, -3}, {5, 5, -1}, kStandardDensityKgM3), 1e-18);
 }
 
 // Superposition: at a corner of a 2a x 2a prism, a quarter of the attraction at the centre of
 // the 4a x 4a prism of the same height.
 TEST(Prism, CornerIsAQuarterOfTheCentreOfTheDoubledPrism) {
   const double a = 7.5, h = 4.0;
-  const double corner = PrismDownwardAttraction({0, 0, -h}, {2 * a, 2 * a, 0}, kRho);
-  const double centre = PrismDownwardAttraction({-2 * a, -2 * a, -h}, {2 * a, 2 * a, 0}, kRho);
+  const double corner =
+      PrismDownwardAttraction({0, 0, -h}, {2 * a, 2 * a, 0}, kStandardDensityKgM3);
+  const double centre =
+      PrismDownwardAttraction({-2 * a, -2 * a, -h}, {2 * a, 2 * a, 0}, kStandardDensityKgM3);
   EXPECT_NEAR(corner, 0.25 * centre, 1e-12 * centre);
 }
 
@@ -44,9 +45,9 @@ TEST(Prism, CornerIsAQuarterOfTheCentreOfTheDoubledPrism) {
 TEST(Prism, FarAwayActsAsAPointMassAndStillAddsUp) {
   const Eigen::Vector3d c(300.0, -400.0, -200.0);
   const Eigen::Vector3d half(1.0, 1.5, 0.5);
-  const double mass = kRho * 8 * half.prod();
+  const double mass = kStandardDensityKgM3 * 8 * half.prod();
   const double point = kG * mass * (-c.z()) / std::pow(c.norm(), 3);
-  const double whole = PrismDownwardAttraction(c - half, c + half, kRho);
+  const double whole = PrismDownwardAttraction(c - half, c + half, kStandardDensityKgM3);
   EXPECT_NEAR(whole, point, 3e-5 * point);
   double parts = 0.0;
   for (int i = 0; i < 2; ++i)
@@ -54,7 +55,7 @@ TEST(Prism, FarAwayActsAsAPointMassAndStillAddsUp) {
       for (int k = 0; k < 2; ++k) {
         const Eigen::Vector3d lo =
             c - half + Eigen::Vector3d(i * half.x(), j * half.y(), k * half.z());
-        parts += PrismDownwardAttraction(lo, lo + half, kRho);
+        parts += PrismDownwardAttraction(lo, lo + half, kStandardDensityKgM3);
       }
   EXPECT_NEAR(parts, whole, 1e-9 * whole);
 }
@@ -66,13 +67,13 @@ TEST(Prism, FiniteAndContinuousOnVerticesEdgesAndFaces) {
   for (const Eigen::Vector3d& at :
        {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(2, 2.5, 0),
         Eigen::Vector3d(0, 0, -3), Eigen::Vector3d(4, 5, -1.5), Eigen::Vector3d(2, 2.5, -1.5)}) {
-    const double on = PrismDownwardAttraction(lo - at, hi - at, kRho);
+    const double on = PrismDownwardAttraction(lo - at, hi - at, kStandardDensityKgM3);
     ASSERT_TRUE(std::isfinite(on)) << at.transpose();
     for (const Eigen::Vector3d& d :
          {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(-1, 0.5, 2), Eigen::Vector3d(0.3, -1, -1)}) {
       const Eigen::Vector3d near = at + 1e-7 * d.normalized();
-      const double g = PrismDownwardAttraction(lo - near, hi - near, kRho);
-      EXPECT_NEAR(g, on, 1e-6 * std::abs(kG * kRho * 5.0)) << at.transpose();
+      const double g = PrismDownwardAttraction(lo - near, hi - near, kStandardDensityKgM3);
+      EXPECT_NEAR(g, on, 1e-6 * std::abs(kG * kStandardDensityKgM3 * 5.0)) << at.transpose();
     }
   }
 }
@@ -80,8 +81,9 @@ TEST(Prism, FiniteAndContinuousOnVerticesEdgesAndFaces) {
 // A point a hair off an edge of a flat prism (b^2 << z^2 in the logarithms): still finite
 // and continuous with the point on the edge.
 TEST(Prism, FiniteAHairOffAnEdge) {
-  const double on = PrismDownwardAttraction({-1, 0, -0.08}, {-0.9, 0.1, 0}, kRho);
-  const double off = PrismDownwardAttraction({-1, -1.4e-16, -0.08}, {-0.9, 0.1, 0}, kRho);
+  const double on = PrismDownwardAttraction({-1, 0, -0.08}, {-0.9, 0.1, 0}, kStandardDensityKgM3);
+  const double off =
+      PrismDownwardAttraction({-1, -1.4e-16, -0.08}, {-0.9, 0.1, 0}, kStandardDensityKgM3);
   ASSERT_TRUE(std::isfinite(off));
   EXPECT_NEAR(off, on, 1e-12 * std::abs(on));
 }
@@ -95,8 +97,9 @@ TEST(Prism, FarFieldLineMassesErrorFallsAsTheFourthPowerOfSideOverDistance) {
     double previous = 0.0;
     for (double r : {5.0, 10.0, 20.0, 40.0, 80.0}) {
       const Eigen::Vector3d lo(r - 0.5, -0.5, z1), hi(r + 0.5, 0.5, z2);
-      const double exact = PrismDownwardAttraction(lo, hi, kRho);
-      const double error = std::abs(PrismDownwardAttractionFarField(lo, hi, kRho) / exact - 1.0);
+      const double exact = PrismDownwardAttraction(lo, hi, kStandardDensityKgM3);
+      const double error =
+          std::abs(PrismDownwardAttractionFarField(lo, hi, kStandardDensityKgM3) / exact - 1.0);
       EXPECT_LT(error, r >= 10.0 ? 2e-5 : 1e-4) << z1 << " " << r;
       if (r >= 40.0) {
         EXPECT_NEAR(error / previous, 1.0 / 16, 0.015) << z1 << " " << r;
@@ -107,7 +110,7 @@ TEST(Prism, FarFieldLineMassesErrorFallsAsTheFourthPowerOfSideOverDistance) {
 }
 
 TEST(Prism, NoVerticalPullAtTheCentreOfACube) {
-  EXPECT_NEAR(PrismDownwardAttraction({-1, -1, -1}, {1, 1, 1}, kRho), 0.0, 1e-20);
+  EXPECT_NEAR(PrismDownwardAttraction({-1, -1, -1}, {1, 1, 1}, kStandardDensityKgM3), 0.0, 1e-20);
 }
 
 }  // namespace

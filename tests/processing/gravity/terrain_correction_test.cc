@@ -10,8 +10,7 @@
 namespace ts {
 namespace {
 
-constexpr double kRho = 2670.0;
-const double kGrhoMgal = kGravitationalConstant * kRho * kMgalPerMs2;
+const double kGrhoMgal = kGravitationalConstant * kStandardDensityKgM3 * kMgalPerMs2;
 
 Raster Dem(double half_m, double cell_m, const std::function<double(double, double)>& height) {
   const int n = static_cast<int>(std::lround(2 * half_m / cell_m));

@@ -10,8 +10,8 @@ namespace ts {
 namespace {
 
 // A smooth random texture: Gaussian blobs of 1.5-4 px, values about 20-230.
-struct Texture {
-  explicit Texture(unsigned seed) {
+struct BlobTexture {
+  explicit BlobTexture(unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> pos(-10, 110), sigma(1.5, 4.0), amp(-60, 60);
     for (int i = 0; i < 900; ++i) blobs.push_back({pos(rng), pos(rng), sigma(rng), amp(rng)});
@@ -30,7 +30,7 @@ struct Texture {
   std::vector<Blob> blobs;
 };
 
-cv::Mat Sampled(const Texture& t, int size) {
+cv::Mat Sampled(const BlobTexture& t, int size) {
   cv::Mat m(size, size, CV_32FC1);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) m.at<float>(y, x) = static_cast<float>(t(x, y));
@@ -38,7 +38,8 @@ cv::Mat Sampled(const Texture& t, int size) {
 }
 
 // Template pixel (cx + x, cy + y) shows r0 + r1 F(a0 + a1 x + a2 y, b0 + b1 x + b2 y).
-cv::Mat Template(const Texture& t, const Eigen::Matrix<double, 8, 1>& p, int size, int cx, int cy) {
+cv::Mat Template(const BlobTexture& t, const Eigen::Matrix<double, 8, 1>& p, int size, int cx,
+                 int cy) {
   cv::Mat m(size, size, CV_32FC1, cv::Scalar(0));
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
@@ -58,7 +59,7 @@ Eigen::Matrix<double, 8, 1> Params(double a0, double a1, double a2, double b0, d
 
 class Lsm : public ::testing::Test {
  protected:
-  Texture texture_{3};
+  BlobTexture texture_{3};
   cv::Mat search_ = Sampled(texture_, 100);
 };
 
@@ -214,7 +215,7 @@ TEST_F(Lsm, RejectsWhatCannotBeMatched) {
   EXPECT_NE(outside.why.find("search window leaves the image"), std::string::npos);
 
   // A different texture altogether: whatever it converges to, it is not accepted.
-  const Texture other(99);
+  const BlobTexture other(99);
   const cv::Mat unrelated = Template(other, Params(50, 1, 0, 50, 0, 1, 0, 1), 31, 15, 15);
   EXPECT_FALSE(MatchLsm(unrelated, ComputeGradients(unrelated), {15, 15}, search_, {50, 50}).ok);
 
