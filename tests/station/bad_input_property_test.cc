@@ -91,7 +91,7 @@ TEST(BadInputProperty, MutatedManifestsAreValidatedOrRefusedWithOneError) {
   testing::MakeStation(station, 3, 3);
   const std::string good = Text(station + "/station.json");
   std::mt19937 rng(23);
-  for (int k = 0; k < 120; ++k) {
+  for (int k = 0; k < 60; ++k) {
     Write(station + "/station.json", MutateJson(good, &rng));
     const auto r = RunCommand(Exe() + " validate " + station + " 2>&1");
     ExpectHonest(r, "validate, mutation " + std::to_string(k));
@@ -108,7 +108,7 @@ TEST(BadInputProperty, MutatedCalibrationsAreUsedOrRefusedWithOneError) {
   // The manifest's calibration as a file of its own, in YAML's JSON subset.
   const std::string good = json::parse(Text(station + "/station.json"))["calibration"].dump();
   std::mt19937 rng(21);
-  for (int k = 0; k < 60; ++k) {
+  for (int k = 0; k < 40; ++k) {
     Write(dir / "cal.yaml", MutateJson(good, &rng));
     const auto r = RunCommand(Exe() + " process " + station + " --calibration " +
                               (dir / "cal.yaml") + " -q 2>&1");
@@ -123,7 +123,7 @@ TEST(BadInputProperty, MutatedCloudsAreFilteredOrRefusedWithOneError) {
   ASSERT_TRUE(WritePly(dir / "good.ply", points));
   const std::string good = Text(dir / "good.ply");
   std::mt19937 rng(22);
-  for (int k = 0; k < 120; ++k) {
+  for (int k = 0; k < 60; ++k) {
     Write(dir / "cloud.ply", MutateBytes(good, &rng));
     const auto r = RunCommand(Exe() + " ground-filter " + (dir / "cloud.ply") + " --out " +
                               (dir / "g.ply") + " 2>&1");
@@ -141,7 +141,7 @@ TEST(BadInputProperty, MutatedDemsGiveAFiniteCorrectionOrOneError) {
   const std::string good = Text(dir / "good.tif");
   std::mt19937 rng(24);
   const std::vector<std::string> cells = {"0", "1e30", "-1e30", "3e38", "nan"};
-  for (int k = 0; k < 100; ++k) {
+  for (int k = 0; k < 60; ++k) {
     if (k % 2 == 0) {
       Write(dir / "dem.tif", MutateBytes(good, &rng));
     } else {  // a readable DEM with values no ground has

@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int RunCommand(const std::string& command) {
+int ExitStatusOf(const std::string& command) {
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -50,26 +50,26 @@ std::vector<std::map<std::string, std::string>> ReadCsv(const std::string& file)
   return rows;
 }
 
-TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsWithANewCalibrationAndDensity) {
+TEST(CampaignWorkflow, SnakemakeReprocessesTwoStationsWithANewCalibrationAndDensity) {
   testing::TempDir temp;
   const fs::path dir = temp.path();
-  const std::vector<std::string> ids = {"W1", "W2", "W3"};
+  const std::vector<std::string> ids = {"W1", "W2"};
   for (size_t i = 0; i < ids.size(); ++i) {
     const std::string station = (dir / "stations" / ids[i]).string();
-    ASSERT_EQ(RunCommand(std::string(TS_TOPOSTATION_EXE) +
-                         " sim render --scene hills --seed 1 --single-row --supersampling 1" +
-                         " --epoch " + std::to_string(i + 1) + " --out " + station + " --truth " +
-                         station + "-truth > /dev/null"),
+    ASSERT_EQ(ExitStatusOf(std::string(TS_TOPOSTATION_EXE) +
+                           " sim render --scene hills --seed 1 --single-row --supersampling 1" +
+                           " --epoch " + std::to_string(i + 1) + " --out " + station + " --truth " +
+                           station + "-truth > /dev/null"),
               0);
   }
   const std::string out = (dir / "out").string();
   const std::string calibration = (dir / "stations/W1-truth/calibration.yaml").string();
   const std::string log = (dir / "snakemake.log").string();
   const int rc =
-      RunCommand("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
-                 (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
-                 " out=" + out + " density=2.2 calibration=" + calibration +
-                 " topostation=" + TS_TOPOSTATION_EXE + " > " + log + " 2>&1");
+      ExitStatusOf("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
+                   (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
+                   " out=" + out + " density=2.2 calibration=" + calibration +
+                   " topostation=" + TS_TOPOSTATION_EXE + " > " + log + " 2>&1");
   std::ifstream snake_log(log);
   ASSERT_EQ(rc, 0) << std::string((std::istreambuf_iterator<char>(snake_log)), {});
 
@@ -102,14 +102,14 @@ TEST(CampaignWorkflow, SnakemakeReprocessesThreeStationsWithANewCalibrationAndDe
   ASSERT_TRUE(ds);
   OGRLayer* points = ds->GetLayerByName("stations");
   ASSERT_TRUE(points);
-  EXPECT_EQ(points->GetFeatureCount(), 3);
+  EXPECT_EQ(points->GetFeatureCount(), static_cast<GIntBig>(ids.size()));
 
   // Run again: nothing to do, every output is newer than its inputs.
   EXPECT_EQ(
-      RunCommand("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
-                 (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
-                 " out=" + out + " density=2.2 calibration=" + calibration +
-                 " topostation=" + TS_TOPOSTATION_EXE + " -n > " + log + " 2>&1"),
+      ExitStatusOf("snakemake -s " TS_SOURCE_DIR "/workflow/Snakefile --cores 2 --directory " +
+                   (dir / "work").string() + " --config stations=" + (dir / "stations").string() +
+                   " out=" + out + " density=2.2 calibration=" + calibration +
+                   " topostation=" + TS_TOPOSTATION_EXE + " -n > " + log + " 2>&1"),
       0);
   std::ifstream again(log);
   const std::string text((std::istreambuf_iterator<char>(again)), {});
