@@ -45,6 +45,8 @@ class CaptureTest : public ::testing::Test {
     sim::SimServeOptions o;
     o.stage_port = port;
     o.faults = faults;
+    // The capture's flow is tested here, not the images' edges: a quarter of the render time.
+    o.render.supersampling = 1;
     if (prerender) o.prerender_targets = sim::DesignPlanTargets(station ? *station : *station_);
     auto server = sim::SimServer::Start(station ? station : station_, o);
     ASSERT_TRUE(server.ok()) << server.error();
