@@ -175,7 +175,7 @@ void SimulatedStage::PhysicsLoop() {
     if (notify) notify(goal);
     if (ready && ready(goal)) {
       std::lock_guard lock(mutex_);
-      if (announce_in_ticks_ <= 0) awaiting_view_ = false;  // unless a new move came meanwhile
+      awaiting_view_ = false;  // still this move's view: commands apply on this thread only
     }
   }
 }
