@@ -1,5 +1,5 @@
-// The campaign's reprocessing workflow (workflow/Snakefile) run by Debian's snakemake on three
-// simulated stations (one rig, three epochs of a site), captured with the rig's design values
+// The campaign's reprocessing workflow (workflow/Snakefile) run by Debian's snakemake on two
+// simulated stations (one rig, two epochs of a site), captured with the rig's design values
 // and reprocessed with its calibration at a new density: every station processed with both,
 // the table's rows equal to each station's own report, the GeoPackage opened with GDAL.
 #include <gtest/gtest.h>
