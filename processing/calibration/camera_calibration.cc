@@ -104,9 +104,8 @@ CameraCalibration DescribeCamera(const TargetAdjustment& a, const AdjustmentPrec
 // (baseline, omega, phi, kappa of left_from_right) from right_from_left as Ceres holds it.
 Eigen::Vector4d RelativeOrientation(const Pose6& right_from_left) {
   const Eigen::Isometry3d left_from_right = IsometryFromPose(right_from_left).inverse();
-  const Opk opk = OpkFromRotation(left_from_right.linear());
-  return {left_from_right.translation().norm(), DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad),
-          DegFromRad(opk.kappa_rad)};
+  const Eigen::Vector3d opk_deg = OpkDegFromRotation(left_from_right.linear());
+  return {left_from_right.translation().norm(), opk_deg.x(), opk_deg.y(), opk_deg.z()};
 }
 
 // Its covariance by first-order propagation (central differences) from the adjustment's.

@@ -32,6 +32,15 @@ Opk OpkFromRotation(const Eigen::Matrix3d& r) {
   return opk;
 }
 
+Eigen::Matrix3d RotationFromOpkDeg(const Eigen::Vector3d& deg) {
+  return RotationFromOpk({RadFromDeg(deg.x()), RadFromDeg(deg.y()), RadFromDeg(deg.z())});
+}
+
+Eigen::Vector3d OpkDegFromRotation(const Eigen::Matrix3d& rotation) {
+  const Opk opk = OpkFromRotation(rotation);
+  return {DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad), DegFromRad(opk.kappa_rad)};
+}
+
 Eigen::Matrix3d RotationFromAzElRoll(const AzElRoll& a) {
   const double ct = std::cos(a.azimuth_rad), st = std::sin(a.azimuth_rad);
   const double cp = std::cos(a.elevation_rad), sp = std::sin(a.elevation_rad);

@@ -14,6 +14,7 @@
 // uses, so 3b is the definition here (tested element by element).
 #include <Eigen/Core>
 #include <cmath>
+#include <numbers>
 
 namespace ts {
 
@@ -53,6 +54,16 @@ Eigen::Matrix3d RotationFromOpk(const Opk& opk);
 // Inverse of RotationFromOpk for phi in [-pi/2, pi/2]. At gimbal lock (|phi| = pi/2)
 // kappa is set to 0 and the whole rotation about the common axis goes into omega.
 Opk OpkFromRotation(const Eigen::Matrix3d& rotation);
+
+// The same with the angles in degrees, as configs and calibration files carry them; templated
+// so that Ceres can differentiate it.
+template <typename T>
+Eigen::Matrix<T, 3, 3> RotationFromOpkDeg(const T& omega, const T& phi, const T& kappa) {
+  const T rad(std::numbers::pi / 180.0);
+  return RotationX(omega * rad) * RotationY(phi * rad) * RotationZ(kappa * rad);
+}
+Eigen::Matrix3d RotationFromOpkDeg(const Eigen::Vector3d& deg);
+Eigen::Vector3d OpkDegFromRotation(const Eigen::Matrix3d& rotation);
 
 struct AzElRoll {
   double azimuth_rad = 0.0;    // theta: about the vertical axis, to the right positive

@@ -64,8 +64,7 @@ void LFromSOf(const T* v, const T& pan_deg, const T& tilt_deg, Eigen::Matrix<T, 
   const Eigen::Matrix<T, 3, 3> skew = RotationY(v[7] * rad);
   // Positive tilt raises +Y towards +Z: positive rotation about +X.
   const Eigen::Matrix<T, 3, 3> tilt = RotationX((tilt_deg - v[3]) * rad);
-  const Eigen::Matrix<T, 3, 3> rig =
-      RotationX(v[11] * rad) * RotationY(v[12] * rad) * RotationZ(v[13] * rad);
+  const Eigen::Matrix<T, 3, 3> rig = RotationFromOpkDeg(v[11], v[12], v[13]);
   const Eigen::Matrix<T, 3, 1> tilt_axis(v[4], v[5], v[6]), rig_offset(v[8], v[9], v[10]);
   // levelling * pan * (skew, tilt_axis) * tilt * (rig, rig_offset)
   const Eigen::Matrix<T, 3, 3> base = levelling * pan;

@@ -8,15 +8,6 @@
 namespace ts {
 namespace {
 
-Eigen::Matrix3d RotationFromOpkDeg(const Eigen::Vector3d& deg) {
-  return RotationFromOpk({RadFromDeg(deg.x()), RadFromDeg(deg.y()), RadFromDeg(deg.z())});
-}
-
-Eigen::Vector3d OpkDegFromRotation(const Eigen::Matrix3d& r) {
-  const Opk opk = OpkFromRotation(r);
-  return {DegFromRad(opk.omega_rad), DegFromRad(opk.phi_rad), DegFromRad(opk.kappa_rad)};
-}
-
 constexpr int kN = CameraIntrinsics::kNumParameters;
 
 // sigma: {c: .., xp: .., ...}, covariance: [row-major kN x kN], rms_px (schema 2).
