@@ -3,7 +3,9 @@
 // held (processing/pipeline/rig_check.h, the same check `process` makes). Several stations of
 // the rig join one adjustment: the stage is shared, each station's levelling its own. A control
 // field session (`--field-session`: its targets measured with the calibration's cameras) joins
-// it as one more set-up, whose surveyed targets fix where the cameras stand.
+// it as one more set-up, whose surveyed targets fix where the cameras stand. With
+// --refine-cameras the cameras and the stereo pair are refined too (rig_cameras.h).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -31,6 +33,7 @@ struct CalibrateRigArgs {
   std::string calibration, out;
   std::string field_session, control_field, marks;
   bool json = false;
+  bool refine_cameras = false;
   // The stations, then the field session: the set-ups of the adjustment, in its order.
   std::vector<std::string> SetUps() const {
     std::vector<std::string> all = stations;
@@ -87,7 +90,9 @@ RigCheck CheckSetUps(const CalibrateRigArgs& args, const Calibration& calibratio
   for (const std::string& station : args.stations)
     ties.push_back(StationTies(station, args.calibration));
   if (!args.field_session.empty()) ties.push_back(FieldTies(args, calibration));
-  const Result<RigCheck> check = CheckRig(ties, {});
+  RigAdjustmentOptions options;
+  options.refine_cameras = args.refine_cameras;
+  const Result<RigCheck> check = CheckRig(ties, options);
   if (check) return *check;
   const std::vector<std::string> set_ups = args.SetUps();
   throw CommandError((set_ups.size() == 1 ? set_ups[0] : "calibrate rig") + ": " + check.error());
@@ -113,6 +118,26 @@ void PrintStations(const std::vector<std::string>& stations, const RigCheck& che
         fit.targets, fit.rms_px, fit.largest_move_sigma);
 }
 
+// The cameras' parameters that moved by more than a tenth of their sigma, with the sigma a
+// posteriori: the rest is in report.json.
+void PrintCameras(const RigCheck& check) {
+  const RigAdjustment& r = check.adjustment;
+  const RigCameraVector before = RigCameraVectorOf(check.start_cameras),
+                        after = RigCameraVectorOf(r.cameras.rig),
+                        sigma = RigCameraSigmas(r.cameras);
+  int quiet = 0;
+  for (int i = 0; i < kRigCameraParameterCount; ++i) {
+    if (sigma[i] == 0.0 || std::abs(after[i] - before[i]) <= 0.1 * sigma[i]) {
+      quiet += sigma[i] > 0.0;
+      continue;
+    }
+    std::printf("  %-32s %+.6g +- %.2g (change %+.2g)\n", RigCameraParameterName(i).c_str(),
+                after[i], sigma[i], after[i] - before[i]);
+  }
+  std::printf("  cameras refined; %d more of their parameters moved by less than 0.1 sigma\n",
+              quiet);
+}
+
 // The same directory however it is written (a station given twice would count twice).
 std::string StationKey(const std::string& station) {
   std::error_code ec;
@@ -129,10 +154,12 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     if (!distinct.insert(StationKey(s)).second) throw CommandError(s + ": given twice");
   const Result<Calibration> given = LoadCalibrationYaml(args.calibration);
   if (!given) throw CommandError(given.error());
+  if (args.refine_cameras)
+    if (Status s = CheckCamerasRefinable(*given); !s)
+      throw CommandError(args.calibration + ": " + s.error());
   const RigCheck check = CheckSetUps(args, *given);
   const RigAdjustment& r = check.adjustment;
-  Calibration out = *given;
-  out.stage = r.stage;
+  const Calibration out = r.Adjusted(*given);
   std::string why;
   if (!out.Check(&why))
     throw CommandError("calibrate rig: the adjusted stage is not valid: " + why);
@@ -168,6 +195,7 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     if (r.sigma[i] > 0.0)
       std::printf("  %-22s %+.5f +- %.5f (change %+.5f)\n", kStageParameterNames[i], a[i],
                   r.sigma[i], a[i] - b[i]);
+  if (r.cameras.refined) PrintCameras(check);
   PrintStations(set_ups, check);
   for (const std::string& w : r.undetermined) std::printf("  %s\n", w.c_str());
   std::printf("written %s, report and seams.png in %s\n", args.out.c_str(),
@@ -192,8 +220,12 @@ void AddCalibrateRigCommand(CLI::App* calibrate) {
                   "with --field-session: targets measured by hand (MARKS.yaml), 4 or more in one "
                   "image of each pose");
   rig->add_option("--calibration", args->calibration,
-                  "the calibration to refine (cameras and stereo pair held)")
+                  "the calibration to refine (its cameras and stereo pair held unless "
+                  "--refine-cameras)")
       ->required();
+  rig->add_flag("--refine-cameras", args->refine_cameras,
+                "refine the cameras and the stereo pair too, weighed by the covariance their "
+                "calibration (calibrate camera / stereo) wrote");
   rig->add_option("--out", args->out, "calibration file (YAML) to write")->required();
   rig->add_flag("--json", args->json, "print one JSON object");
   rig->callback([args] { RunCalibrateRig(*args); });

@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "processing/calibration/rig_cameras.h"
 #include "processing/geometry/camera_model.h"
 
 namespace ts {
@@ -42,18 +43,17 @@ std::string ParameterName(int i, int stations) {
 // stage, then the encoder corrections.
 using KinematicsJet = ceres::Jet<double, kStageParameterCount + 2>;
 
-// One camera at one stage pose: its place in L as jets of the stage, the station's levelling
-// and the pose's encoder corrections. The same for every tie point the camera saw there, and
-// the most costly part of a residual: computed once per set of parameter values (residuals
-// may be evaluated on several threads, hence the lock).
-class CameraPlacement {
+// S in L at one stage pose, as jets of the stage, the station's levelling and the pose's
+// encoder corrections. The same for every tie point seen there, and the most costly part of a
+// residual: computed once per set of parameter values (residuals may be evaluated on several
+// threads, hence the lock).
+class StagePlacement {
  public:
-  CameraPlacement(const Eigen::Isometry3d& s_from_camera, const RigPose& pose)
-      : s_from_camera_(s_from_camera), pose_(pose) {
+  explicit StagePlacement(const RigPose& pose) : pose_(pose) {
     key_.fill(std::numeric_limits<double>::quiet_NaN());
   }
   void Get(const double* stage, const double* levelling, const double* encoder,
-           Eigen::Matrix<KinematicsJet, 3, 3>* r_lc, Eigen::Matrix<KinematicsJet, 3, 1>* t_lc) {
+           Eigen::Matrix<KinematicsJet, 3, 3>* r_ls, Eigen::Matrix<KinematicsJet, 3, 1>* t_ls) {
     std::array<double, kStageParameterCount + 2> key;
     std::copy(stage, stage + kStageParameterCount, key.begin());
     key[0] = levelling[0];
@@ -66,74 +66,84 @@ class CameraPlacement {
       for (int i = 0; i < kStageParameterCount; ++i) v[i] = KinematicsJet(key[i], i);
       const KinematicsJet pan(pose_.pan_deg + encoder[0], kStageParameterCount);
       const KinematicsJet tilt(pose_.tilt_deg + encoder[1], kStageParameterCount + 1);
-      Eigen::Matrix<KinematicsJet, 3, 3> r_ls;
-      Eigen::Matrix<KinematicsJet, 3, 1> t_ls;
-      LFromSOf(v.data(), pan, tilt, &r_ls, &t_ls);
-      r_lc_ = r_ls * s_from_camera_.linear().cast<KinematicsJet>();
-      t_lc_ = r_ls * s_from_camera_.translation().cast<KinematicsJet>() + t_ls;
+      LFromSOf(v.data(), pan, tilt, &r_ls_, &t_ls_);
       key_ = key;
     }
-    *r_lc = r_lc_;
-    *t_lc = t_lc_;
+    *r_ls = r_ls_;
+    *t_ls = t_ls_;
   }
 
  private:
-  const Eigen::Isometry3d s_from_camera_;
   const RigPose pose_;
   std::mutex mutex_;
   std::array<double, kStageParameterCount + 2> key_;
-  Eigen::Matrix<KinematicsJet, 3, 3> r_lc_;
-  Eigen::Matrix<KinematicsJet, 3, 1> t_lc_;
+  Eigen::Matrix<KinematicsJet, 3, 3> r_ls_;
+  Eigen::Matrix<KinematicsJet, 3, 1> t_ls_;
 };
 
-// Each camera at each pose of the input: [2 * pose + side].
-std::vector<std::shared_ptr<CameraPlacement>> Placements(const RigAdjustmentInput& in) {
-  std::vector<std::shared_ptr<CameraPlacement>> placements;
-  for (const RigPose& pose : in.poses)
+// The stage at each pose and each camera in the rig, shared by the observations.
+struct Placements {
+  std::vector<std::shared_ptr<StagePlacement>> stage;  // per pose
+  std::array<std::shared_ptr<CameraInRig>, 2> camera;  // left, right
+  explicit Placements(const RigAdjustmentInput& in) {
+    for (const RigPose& pose : in.poses) stage.push_back(std::make_shared<StagePlacement>(pose));
     for (Side side : {Side::kLeft, Side::kRight})
-      placements.push_back(std::make_shared<CameraPlacement>(
-          side == Side::kLeft ? in.calibration.rig.SFromLeftCamera()
-                              : in.calibration.rig.SFromRightCamera(),
-          pose));
-  return placements;
-}
+      camera[side == Side::kLeft ? 0 : 1] =
+          std::make_shared<CameraInRig>(side, in.calibration.rig.S_from_left);
+  }
+};
 
-std::shared_ptr<CameraPlacement> PlacementOf(
-    const std::vector<std::shared_ptr<CameraPlacement>>& placements, const RigTieObservation& t) {
-  return placements[2 * t.pose + (t.side == Side::kLeft ? 0 : 1)];
-}
-
-// One image's measurement of a tie point. The stage's kinematics are differentiated by Ceres'
-// jets, the projection (which inverts the distortion by Newton's method) analytically.
-class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 2, 3> {
+// One image's measurement of a tie point. The stage's kinematics and the camera's place in
+// the rig are differentiated by Ceres' jets, the projection (which inverts the distortion by
+// Newton's method) analytically.
+class TieCost
+    : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 2, 3,
+                                      CameraIntrinsics::kNumParameters, kStereoParameterCount> {
  public:
-  TieCost(const Calibration& calibration, const RigTieObservation& t,
-          std::shared_ptr<CameraPlacement> placement, double sigma_px)
-      : placement_(std::move(placement)),
-        model_(t.side == Side::kLeft ? calibration.rig.left : calibration.rig.right),
+  TieCost(const Calibration& calibration, const RigTieObservation& t, const Placements& placements,
+          double sigma_px)
+      : stage_(placements.stage[t.pose]),
+        camera_(placements.camera[t.side == Side::kLeft ? 0 : 1]),
+        start_(t.side == Side::kLeft ? calibration.rig.left : calibration.rig.right),
         pixel_(t.pixel),
         sigma_px_(sigma_px) {}
 
   // Parameters: the stage vector, the station's levelling and the pose's encoder corrections
-  // (deg), the point in L.
+  // (deg), the point in L, the camera's intrinsics, the stereo pair (rig_cameras.h).
   bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
     using Jet = KinematicsJet;
-    Eigen::Matrix<Jet, 3, 3> r_lc;
-    Eigen::Matrix<Jet, 3, 1> t_lc;
-    placement_->Get(x[0], x[1], x[2], &r_lc, &t_lc);
+    Eigen::Matrix<Jet, 3, 3> r_ls;
+    Eigen::Matrix<Jet, 3, 1> t_ls;
+    stage_->Get(x[0], x[1], x[2], &r_ls, &t_ls);
+    Eigen::Matrix<StereoJet, 3, 3> r_sc;
+    Eigen::Matrix<StereoJet, 3, 1> c_s;
+    camera_->Get(x[5], &r_sc, &c_s);
     const Eigen::Matrix<Jet, 3, 1> point{Jet(x[3][0]), Jet(x[3][1]), Jet(x[3][2])};
-    const Eigen::Matrix<Jet, 3, 1> in_camera = r_lc.transpose() * (point - t_lc);
+    const Eigen::Matrix<Jet, 3, 1> in_s = r_ls.transpose() * (point - t_ls);
+    const Eigen::Vector3d q(in_s[0].a, in_s[1].a, in_s[2].a);
+    const Eigen::Matrix<StereoJet, 3, 1> in_camera = r_sc.transpose() * (q.cast<StereoJet>() - c_s);
     const Eigen::Vector3d p(in_camera[0].a, in_camera[1].a, in_camera[2].a);
+    IntrinsicsVector intrinsics;
+    std::copy(x[4], x[4] + intrinsics.size(), intrinsics.begin());
+    const CameraModel model(CameraIntrinsics::FromParameters(
+        intrinsics, start_.width_px, start_.height_px, start_.pixel_size_um));
     Eigen::Vector2d projected;
     CameraModel::Jacobian2x3 d_pixel;
-    if (!model_.Project(p, &projected, &d_pixel)) return false;
+    CameraModel::JacobianIntrinsics d_intrinsics;
+    const bool want_intrinsics = jacobians && jacobians[4];
+    if (!model.Project(p, &projected, &d_pixel, want_intrinsics ? &d_intrinsics : nullptr))
+      return false;
     residual[0] = (projected.x() - pixel_.x()) / sigma_px_;
     residual[1] = (projected.y() - pixel_.y()) / sigma_px_;
     if (!jacobians) return true;
     const Eigen::Matrix<double, 2, 3> d = d_pixel / sigma_px_;
-    Eigen::Matrix<double, 3, kStageParameterCount + 2> d_camera;
-    for (int k = 0; k < 3; ++k) d_camera.row(k) = in_camera[k].v.transpose();
-    const Eigen::Matrix<double, 2, kStageParameterCount + 2> d_angles = d * d_camera;
+    Eigen::Matrix3d r_cs;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) r_cs(a, b) = r_sc(b, a).a;
+    Eigen::Matrix<double, 3, kStageParameterCount + 2> d_in_s;
+    for (int k = 0; k < 3; ++k) d_in_s.row(k) = in_s[k].v.transpose();
+    const Eigen::Matrix<double, 2, 3> d_s = d * r_cs;  // of the pixel by the point in S
+    const Eigen::Matrix<double, 2, kStageParameterCount + 2> d_angles = d_s * d_in_s;
     using RowMajor2x14 = Eigen::Matrix<double, 2, kStageParameterCount, Eigen::RowMajor>;
     using RowMajor2x2 = Eigen::Matrix<double, 2, 2, Eigen::RowMajor>;
     using RowMajor2x3 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
@@ -151,18 +161,31 @@ class TieCost : public ceres::SizedCostFunction<2, kStageParameterCount, 2, 2, 3
       d_encoder = d_angles.rightCols<2>();
     }
     if (jacobians[3]) {
-      Eigen::Matrix3d r_cl;
+      Eigen::Matrix3d r_sl;
       for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) r_cl(a, b) = r_lc(b, a).a;
+        for (int b = 0; b < 3; ++b) r_sl(a, b) = r_ls(b, a).a;
       Eigen::Map<RowMajor2x3> d_point(jacobians[3]);
-      d_point = d * r_cl;
+      d_point = d_s * r_sl;
+    }
+    if (jacobians[4]) {
+      Eigen::Map<Eigen::Matrix<double, 2, CameraIntrinsics::kNumParameters, Eigen::RowMajor>>
+          d_interior(jacobians[4]);
+      d_interior = d_intrinsics / sigma_px_;
+    }
+    if (jacobians[5]) {
+      Eigen::Matrix<double, 3, kStereoParameterCount> d_camera;
+      for (int k = 0; k < 3; ++k) d_camera.row(k) = in_camera[k].v.transpose();
+      Eigen::Map<Eigen::Matrix<double, 2, kStereoParameterCount, Eigen::RowMajor>> d_stereo(
+          jacobians[5]);
+      d_stereo = d * d_camera;
     }
     return true;
   }
 
  private:
-  std::shared_ptr<CameraPlacement> placement_;
-  CameraModel model_;
+  std::shared_ptr<StagePlacement> stage_;
+  std::shared_ptr<CameraInRig> camera_;
+  CameraIntrinsics start_;  // the image's size and pixel
   Eigen::Vector2d pixel_;
   double sigma_px_;
 };
@@ -230,11 +253,13 @@ std::vector<double> PriorSigmas(const RigAdjustmentOptions& o, int stations) {
 }
 
 struct Unknowns {
+  explicit Unknowns(const StereoRig& rig) : cameras(rig) {}
   StageVector stage{};
   std::vector<std::array<double, 2>> levelling;  // per station, deg
   std::vector<std::array<double, 2>> encoder;    // per pose: true minus read-back, deg
   std::vector<Eigen::Vector3d> points;
   std::vector<FieldPose> field_pose;  // per control field
+  RigCameraUnknowns cameras;
   double* BlockOf(int i) {
     return i < kStageParameterCount ? stage.data()
                                     : levelling[(i - kStageParameterCount) / 2].data();
@@ -295,19 +320,19 @@ std::optional<ImageSigmas> EstimateImageSigmas(const ImageSums& sums, int parame
 // rejected; after it plain least squares, which converges in a few Gauss-Newton steps where
 // the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred. `control`:
 // in.ControlPoints().
-void BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& control,
-                  const RigAdjustmentOptions& o, bool robust, const ImageSigmas& pixel_sigma,
-                  const std::vector<double>& prior, const std::set<int>& held,
-                  const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
-  const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
+Status BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& control,
+                    const RigAdjustmentOptions& o, bool robust, const ImageSigmas& pixel_sigma,
+                    const std::vector<double>& prior, const std::set<int>& held,
+                    const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
+  const Placements placements(in);
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
-    auto* cost = new TieCost(in.calibration, t, PlacementOf(placements, t),
-                             pixel_sigma.Of(control[t.point]));
-    problem->AddResidualBlock(cost, robust ? new ceres::HuberLoss(3.0) : nullptr, u->stage.data(),
-                              u->levelling[in.poses[t.pose].station].data(),
-                              u->encoder[t.pose].data(), u->points[t.point].data());
+    auto* cost = new TieCost(in.calibration, t, placements, pixel_sigma.Of(control[t.point]));
+    problem->AddResidualBlock(
+        cost, robust ? new ceres::HuberLoss(3.0) : nullptr,
+        {u->stage.data(), u->levelling[in.poses[t.pose].station].data(), u->encoder[t.pose].data(),
+         u->points[t.point].data(), u->cameras.Intrinsics(t.side), u->cameras.stereo.data()});
   }
   // A target whose image observations were all rejected has left the problem.
   for (size_t f = 0; f < in.control_fields.size(); ++f) {
@@ -363,6 +388,7 @@ void BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& control
           nullptr, levelling);
     add_prior(levelling, x, 2);
   }
+  return AddCameraPriors(in.calibration, o.refine_cameras, &u->cameras, problem);
 }
 
 // The robust round only has to bring the mismatched tie points out for rejection; its Huber
@@ -395,12 +421,29 @@ std::vector<int> FreeParameters(Unknowns* u, const std::set<int>& held, ceres::P
   return free;
 }
 
-// The covariance of the parameters (a priori scale; zero rows for held ones), or nothing when
-// the normal matrix is singular. The points are eliminated block by block (each residual
-// block of a tie observation holds one point), so the work grows with the observations, not
-// with the cube of the unknowns as a QR of the whole Jacobian does.
-std::optional<Eigen::MatrixXd> ParameterCovariance(Unknowns* u, const std::vector<int>& free,
-                                                   ceres::Problem* problem) {
+// The cameras' refined parameters (rig_cameras.h's list) in the problem, in the order of the
+// Jacobian's columns; none when the cameras are held.
+std::vector<int> FreeCameraParameters(const Calibration& calibration, bool refine, Unknowns* u,
+                                      ceres::Problem* problem) {
+  std::vector<int> free;
+  if (!refine) return free;
+  for (int i : RefinedCameraParameters(calibration))
+    if (problem->HasParameterBlock(u->cameras.Blocks()[CameraBlockOf(i)])) free.push_back(i);
+  return free;
+}
+
+// The covariances a posteriori (a priori scale; zero rows for held parameters): the stage's
+// and the stations' levellings' (LevellingParameter's list), the cameras' (rig_cameras.h's).
+struct ParameterCovariances {
+  Eigen::MatrixXd stage, cameras;
+};
+
+// Nothing when the normal matrix is singular. The points are eliminated block by block (each
+// residual block of a tie observation holds one point), so the work grows with the
+// observations, not with the cube of the unknowns as a QR of the whole Jacobian does.
+std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::vector<int>& free,
+                                                        const std::vector<int>& camera_free,
+                                                        ceres::Problem* problem) {
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks.push_back(u->stage.data());
   for (auto& l : u->levelling)
@@ -418,7 +461,11 @@ std::optional<Eigen::MatrixXd> ParameterCovariance(Unknowns* u, const std::vecto
       options.parameter_blocks.push_back(f.data());
       field_parameters += 6;
     }
-  const int reduced = static_cast<int>(free.size()) + 2 * encoders + field_parameters;
+  std::set<int> camera_blocks;
+  for (int i : camera_free) camera_blocks.insert(CameraBlockOf(i));
+  for (int b : camera_blocks) options.parameter_blocks.push_back(u->cameras.Blocks()[b]);
+  const int first_camera = static_cast<int>(free.size()) + 2 * encoders + field_parameters;
+  const int reduced = first_camera + static_cast<int>(camera_free.size());
   // A point whose observations were all rejected has left the problem.
   std::vector<int> column_point;
   for (size_t p = 0; p < u->points.size(); ++p)
@@ -470,10 +517,15 @@ std::optional<Eigen::MatrixXd> ParameterCovariance(Unknowns* u, const std::vecto
        eigen.eigenvectors().transpose()) *
       scale.asDiagonal();
   const int parameters = kStageParameterCount + 2 * static_cast<int>(u->levelling.size());
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(parameters, parameters);
-  for (size_t r = 0; r < free.size(); ++r)
-    for (size_t c = 0; c < free.size(); ++c) covariance(free[r], free[c]) = inverse(r, c);
-  return covariance;
+  ParameterCovariances c;
+  c.stage = Eigen::MatrixXd::Zero(parameters, parameters);
+  for (size_t a = 0; a < free.size(); ++a)
+    for (size_t b = 0; b < free.size(); ++b) c.stage(free[a], free[b]) = inverse(a, b);
+  c.cameras = Eigen::MatrixXd::Zero(kRigCameraParameterCount, kRigCameraParameterCount);
+  for (size_t a = 0; a < camera_free.size(); ++a)
+    for (size_t b = 0; b < camera_free.size(); ++b)
+      c.cameras(camera_free[a], camera_free[b]) = inverse(first_camera + a, first_camera + b);
+  return c;
 }
 
 // The free parameters that dominate a combination the data tell less of than the prior did.
@@ -604,13 +656,17 @@ Status CheckInput(const RigAdjustmentInput& in) {
 
 // Each image observation's residual (pixels), squared.
 std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknowns& u) {
-  const std::vector<std::shared_ptr<CameraPlacement>> placements = Placements(in);
+  const Placements placements(in);
   std::vector<double> squares;
   for (const RigTieObservation& t : in.observations) {
     double residual[2] = {1e30, 1e30};
-    const double* x[] = {u.stage.data(), u.levelling[in.poses[t.pose].station].data(),
-                         u.encoder[t.pose].data(), u.points[t.point].data()};
-    TieCost(in.calibration, t, PlacementOf(placements, t), 1.0).Evaluate(x, residual, nullptr);
+    const double* x[] = {u.stage.data(),
+                         u.levelling[in.poses[t.pose].station].data(),
+                         u.encoder[t.pose].data(),
+                         u.points[t.point].data(),
+                         u.cameras.intrinsics[t.side == Side::kLeft ? 0 : 1].data(),
+                         u.cameras.stereo.data()};
+    TieCost(in.calibration, t, placements, 1.0).Evaluate(x, residual, nullptr);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);
   }
   return squares;
@@ -655,7 +711,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   for (const RigControlField& field : in.control_fields)
     held.insert({LevellingParameter(field.station, 0), LevellingParameter(field.station, 1)});
   RigAdjustment r;
-  Unknowns u;
+  Unknowns u(in.calibration.rig);
   // The images' sigmas are estimated as variance components, so that the sigmas weigh the
   // images against the encoders, the inclinometer and the survey by what the images show.
   ImageSigmas pixel_sigma{{o.pixel_sigma_px, o.pixel_sigma_px}};
@@ -674,15 +730,21 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     for (int i : held) u.Parameter(i) = prior[i];
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
-    BuildProblem(in, control, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
+    if (Status s =
+            BuildProblem(in, control, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
+        !s)
+      return Error{"rig adjustment: " + s.error()};
     const std::vector<char> problem_rejected = rejected;
     if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
     const ImageSums sums = SumImageResiduals(in, control, squared, rejected);
     const int kept = sums.kept[0] + sums.kept[1];
     const std::vector<int> free = FreeParameters(&u, held, &problem);
-    const std::optional<ImageSigmas> image_sigma = EstimateImageSigmas(
-        sums, static_cast<int>(free.size()), SurveyRedundancy(in, u, problem), pixel_sigma);
+    const std::vector<int> camera_free =
+        FreeCameraParameters(in.calibration, o.refine_cameras, &u, &problem);
+    const std::optional<ImageSigmas> image_sigma =
+        EstimateImageSigmas(sums, static_cast<int>(free.size() + camera_free.size()),
+                            SurveyRedundancy(in, u, problem), pixel_sigma);
     if (!image_sigma) return Error{"rig adjustment: fewer observations than unknowns"};
     bool reweigh = false;
     for (int kind : {0, 1})
@@ -695,10 +757,12 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     r.observations = kept;
     r.rejected_observation = problem_rejected;
     r.rejected = static_cast<int>(in.observations.size()) - kept;
-    const std::optional<Eigen::MatrixXd> covariance = ParameterCovariance(&u, free, &problem);
+    const std::optional<ParameterCovariances> covariance =
+        ParameterCovariance(&u, free, camera_free, &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
-    const std::vector<int> named = Undetermined(*covariance, free, o, station_count, &reasons);
+    const std::vector<int> named =
+        Undetermined(covariance->stage, free, o, station_count, &reasons);
     if (!named.empty() && observability++ < kMaxObservabilityRounds) {
       held.insert(named.begin(), named.end());
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
@@ -706,7 +770,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     }
     r.rms_px = std::sqrt((sums.squares[0] + sums.squares[1]) / (2.0 * kept));
     r.image_sigma_px = image_sigma->sigma[sums.kept[0] > 0 ? 0 : 1];
-    const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, (*covariance)(i, i))); };
+    const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, covariance->stage(i, i))); };
     for (int s = 0; s < station_count; ++s) {
       const int x = LevellingParameter(s, 0);
       r.levelling_deg.emplace_back(u.Parameter(x), u.Parameter(x + 1));
@@ -721,8 +785,20 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     r.stage = StageKinematicsOf(stage, in.calibration.stage);
     r.points = u.points;
     r.control = ControlFits(in, u, squared, rejected, image_sigma->sigma[1]);
+    r.cameras = RigCamerasOf(in.calibration, u.cameras,
+                             o.refine_cameras ? covariance->cameras : Eigen::MatrixXd());
     return r;
   }
+}
+
+Calibration RigAdjustment::Adjusted(const Calibration& given) const {
+  Calibration c = given;
+  c.stage = stage;
+  c.rig = cameras.rig;
+  c.left_precision = cameras.left_precision;
+  c.right_precision = cameras.right_precision;
+  c.stereo_precision = cameras.stereo_precision;
+  return c;
 }
 
 std::vector<RigStation> RigAdjustmentInput::Stations() const {

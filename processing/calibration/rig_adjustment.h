@@ -1,6 +1,7 @@
 #pragma once
 // The rig on its stage (issue 21): the stage kinematics (stage_kinematics.h) estimated from tie
-// points of a panorama, the interior and stereo calibration held. Each tie point is a point of
+// points of a panorama, the interior and stereo calibration held, or refined with the
+// covariance of their calibration when the user asks (rig_cameras.h). Each tie point is a point of
 // the terrain seen from two or more stage poses (neighbouring pairs in their overlaps, a row
 // pose and the pose above it); its position in L is an unknown, and each image that measured
 // it is an observation through the project's camera model:
@@ -37,6 +38,7 @@
 
 #include "core/options.h"
 #include "core/result.h"
+#include "processing/calibration/rig_cameras.h"
 #include "processing/geometry/calibration.h"
 
 namespace ts {
@@ -47,6 +49,7 @@ struct RigAdjustmentOptions {
   double inclinometer_sigma_deg = 0.02;
   double prior_angle_sigma_deg = 1.0;  // levelling, tilt zero, skew, rig rotation
   double prior_offset_sigma_m = 0.02;  // tilt-axis and rig offsets
+  bool refine_cameras = false;         // rig_cameras.h
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("pixel_sigma_px", self.pixel_sigma_px, {"a tie point's image sigma", "px", 1e-3, 10});
@@ -57,6 +60,8 @@ struct RigAdjustmentOptions {
       {"prior sigma of the stage's small angles", "deg", 1e-4, 10});
     v("prior_offset_sigma_m", self.prior_offset_sigma_m,
       {"prior sigma of the stage's offsets", "m", 1e-5, 1});
+    v("refine_cameras", self.refine_cameras,
+      {"refine the cameras and the stereo pair, weighed by their calibration's covariance"});
   }
   bool Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 };
@@ -137,6 +142,9 @@ struct RigAdjustment {
     double largest_move_sigma = 0.0;
   };
   std::vector<ControlFit> control;
+  RigCameras cameras;  // as given, or refined (options.refine_cameras)
+  // `given` with this stage, and these cameras with their precision.
+  Calibration Adjusted(const Calibration& given) const;
 };
 
 // The tie points of several stations of one rig as one input: poses, points and observations

@@ -16,13 +16,12 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& stage,
+RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibration,
                          const RigAdjustment& adjustment, int station) {
   const double image_sigma_px = adjustment.image_sigma_px;
-  Calibration moved = in.calibration;
-  moved.stage = stage;
-  const CameraModel left(in.calibration.rig.left);
-  const double c = in.calibration.rig.left.principal_distance_px;
+  const Calibration& moved = calibration;
+  const CameraModel left(moved.rig.left);
+  const double c = moved.rig.left.principal_distance_px;
   const auto l_from_left = [](const Calibration& calibration, const RigPose& pose) {
     return calibration.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
   };

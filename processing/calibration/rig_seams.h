@@ -33,10 +33,11 @@ struct RigSeams {
   double within_2_sigma = 0.0;
 };
 
-// The seams with `stage` in place of in.calibration's (each pair's points moved with their
-// pair's pose): before the adjustment with in.calibration.stage, after it with its stage.
-// Several stations: the seams of all of them, or of one (`station` >= 0).
-RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const StageKinematics& stage,
+// The seams with `calibration`'s stage and cameras in place of in.calibration's (each pair's
+// points moved with their pair's left camera): before the adjustment with in.calibration's,
+// after it with the adjustment's (RigAdjustment::Adjusted). Several stations: the seams of all
+// of them, or of one (`station` >= 0).
+RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibration,
                          const RigAdjustment& adjustment, int station = -1);
 
 }  // namespace ts

@@ -18,6 +18,7 @@ Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
   if (!adjusted) return Error{adjusted.error()};
   RigCheck check;
   check.start = tie.calibration.stage;
+  check.start_cameras = tie.calibration.rig;
   check.stations = tie.Stations();
   check.at_control_field.assign(check.stations.size(), 0);
   for (const RigControlField& field : tie.control_fields) check.at_control_field[field.station] = 1;
@@ -25,12 +26,13 @@ Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
   check.adjustment.stage.height_above_mark_m = check.start.height_above_mark_m;
   const std::vector<char> control = tie.ControlPoints();
   check.tie_points = static_cast<int>(std::count(control.begin(), control.end(), 0));
-  check.before = MeasureRigSeams(tie, check.start, check.adjustment);
-  check.after = MeasureRigSeams(tie, check.adjustment.stage, check.adjustment);
+  const Calibration after = check.adjustment.Adjusted(tie.calibration);
+  check.before = MeasureRigSeams(tie, tie.calibration, check.adjustment);
+  check.after = MeasureRigSeams(tie, after, check.adjustment);
   if (stations.size() > 1)
     for (size_t s = 0; s < stations.size(); ++s)
       check.station_after.push_back(
-          MeasureRigSeams(tie, check.adjustment.stage, check.adjustment, static_cast<int>(s)));
+          MeasureRigSeams(tie, after, check.adjustment, static_cast<int>(s)));
   return check;
 }
 
@@ -62,6 +64,18 @@ nlohmann::json RigCheckJson(const RigCheck& check, bool used) {
       {"seams", {{"before", SeamsJson(check.before)}, {"after", SeamsJson(check.after)}}},
       {"parameters", parameters},
       {"undetermined", r.undetermined}};
+  if (r.cameras.refined) {
+    const RigCameraVector before = RigCameraVectorOf(check.start_cameras),
+                          after = RigCameraVectorOf(r.cameras.rig),
+                          sigma = RigCameraSigmas(r.cameras);
+    nlohmann::json cameras = nlohmann::json::object();
+    for (int i = 0; i < kRigCameraParameterCount; ++i)
+      cameras[RigCameraParameterName(i)] = {{"value", after[i]},
+                                            {"sigma", sigma[i]},
+                                            {"change", after[i] - before[i]},
+                                            {"held", sigma[i] == 0.0}};
+    j["cameras"] = cameras;
+  }
   if (!r.control.empty()) {
     nlohmann::json fields = nlohmann::json::array();
     for (const RigAdjustment::ControlFit& fit : r.control)

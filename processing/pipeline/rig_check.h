@@ -22,6 +22,7 @@ namespace ts {
 
 struct RigCheck {
   StageKinematics start;  // the calibration's stage with the (first) station's levelling and height
+  StereoRig start_cameras;
   std::vector<RigStation> stations;  // each station's levelling at the start, and its reading
   RigAdjustment adjustment;
   RigSeams before, after;  // of every station
@@ -46,7 +47,8 @@ Result<RigCheck> CheckRig(const std::vector<RigAdjustmentInput>& stations,
                           const RigAdjustmentOptions& adjustment_options);
 
 // What report.json records: each parameter with its sigma and change, what was held, the
-// seams before and after, and whether the adjusted stage was used.
+// seams before and after, and whether the adjusted stage was used; the cameras' parameters
+// the same way when they were refined.
 nlohmann::json RigCheckJson(const RigCheck& check, bool used);
 
 // A matched pair's points (and covariances), taken into L with `from`'s stage, moved to

@@ -20,6 +20,7 @@
 #include "processing/geometry/rotation.h"
 #include "sim/calibration_field.h"
 #include "sim/sim_rig.h"
+#include "tests/common/projected_field_session.h"
 #include "tests/common/stage_truth.h"
 
 namespace ts::sim {
@@ -29,6 +30,8 @@ using testing::AngleDeg;
 using testing::CameraErrors;
 using testing::FieldPlacementErrors;
 using testing::IsStageOffset;
+using testing::ProjectedFieldSession;
+using testing::ProjectFieldSession;
 using testing::TruthInTheEstimatesGauge;
 
 struct Panorama {
@@ -282,53 +285,7 @@ TEST(RigAdjustment, PointsSeenFromOnePoseOnlyTieNothingAndAreRefused) {
   EXPECT_NE(r.error().find("two stage poses"), std::string::npos) << r.error();
 }
 
-// A control field session of the rig (seed 003's calibration range, 9 pans x 4 tilts), its
-// targets seen by the true cameras at their true poses with 0.05 px of noise, the surveyed
-// coordinates with the survey's 1 mm: the views as MeasureFieldTargets leaves them.
-struct FieldSessionViews {
-  FieldSession session;
-  std::vector<TargetViews> measured;  // left, right
-  std::vector<RigPose> poses;         // the encoders' read-backs
-};
-
-FieldSessionViews ProjectFieldSession(const SimRig& rig, uint64_t seed) {
-  FieldSessionViews f;
-  f.session = PlanFieldSession(rig, seed, FieldSessionOptions{});
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 0.05);
-  std::normal_distribution<double> encoder(0.0, RigAdjustmentOptions{}.encoder_sigma_deg);
-  for (const StagePose& pose : f.session.poses)
-    f.poses.push_back({pose.pan_deg + encoder(rng), pose.tilt_deg + encoder(rng)});
-  for (Side side : {Side::kLeft, Side::kRight}) {
-    TargetViews& views = f.measured.emplace_back();
-    const CameraIntrinsics& camera = side == Side::kLeft ? rig.truth.rig.left : rig.truth.rig.right;
-    views.width_px = camera.width_px;
-    views.height_px = camera.height_px;
-    for (const FieldTarget& t : f.session.surveyed.targets) {
-      views.target.push_back(t.position_m);
-      views.target_sigma.push_back(t.sigma_m);
-    }
-    const CameraModel model(camera);
-    for (size_t k = 0; k < f.session.poses.size(); ++k) {
-      const Eigen::Isometry3d camera_from_field =
-          rig.truth.LFromCamera(side, f.session.poses[k].pan_deg, f.session.poses[k].tilt_deg)
-              .inverse() *
-          f.session.field_from_station.inverse();
-      TargetView view{"view", static_cast<int>(k), {}, {}};
-      for (size_t i = 0; i < f.session.truth.targets.size(); ++i) {
-        Eigen::Vector2d pixel;
-        const Eigen::Vector3d p = camera_from_field * f.session.truth.targets[i].position_m;
-        if (p.z() <= 0.0 || !model.Project(p, &pixel) || !model.InImage(pixel)) continue;
-        view.ids.push_back(static_cast<int>(i));
-        view.pixels.push_back(pixel + Eigen::Vector2d(noise(rng), noise(rng)));
-      }
-      if (view.ids.size() >= 6) views.views.push_back(std::move(view));
-    }
-  }
-  return f;
-}
-
-Result<RigAdjustment> AdjustAtField(const SimRig& rig, const FieldSessionViews& f) {
+Result<RigAdjustment> AdjustAtField(const SimRig& rig, const ProjectedFieldSession& f) {
   Calibration start = rig.truth;
   start.stage = rig.nominal.stage;
   const Result<RigAdjustmentInput> in = ControlFieldInput(start, f.measured, f.poses);
@@ -342,7 +299,7 @@ Result<RigAdjustment> AdjustAtField(const SimRig& rig, const FieldSessionViews& 
 // set-up) is held without a word.
 TEST(RigAdjustment, AControlFieldGivesWhereEachCameraStands) {
   const SimRig rig = MakeSimRig(7, 1.5);
-  const FieldSessionViews f = ProjectFieldSession(rig, 7);
+  const ProjectedFieldSession f = ProjectFieldSession(rig, 7);
   const Result<RigAdjustment> r = AdjustAtField(rig, f);
   ASSERT_TRUE(r.ok()) << r.error();
   for (const std::string& w : r->undetermined) std::printf("  %s\n", w.c_str());
@@ -409,7 +366,7 @@ TEST(RigAdjustment, AControlFieldJoinsAStationsPanorama) {
   Panorama p = MakePanorama(rig, Poses(rig, true), 8);
   p.input.stations = {{{rig.nominal.stage.levelling_x_deg, rig.nominal.stage.levelling_y_deg},
                        Eigen::Vector2d(rig.inclinometer_x_deg, rig.inclinometer_y_deg)}};
-  const FieldSessionViews f = ProjectFieldSession(rig, 8);
+  const ProjectedFieldSession f = ProjectFieldSession(rig, 8);
   const Result<RigAdjustmentInput> field =
       ControlFieldInput(p.input.calibration, f.measured, f.poses);
   ASSERT_TRUE(field.ok()) << field.error();

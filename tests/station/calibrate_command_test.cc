@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "processing/calibration/rig_cameras.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/station_manifest.h"
 #include "tests/common/station_fixture.h"
@@ -120,7 +121,7 @@ TEST(CalibrateCommand, SimulatedCharucoSessionGivesTheTrueRig) {
 
 // A control field session of the simulated rig (seed 003's calibration range): hand marks in
 // the left images only, the rest found; the rig within four sigmas of the truth, one camera too,
-// and then the stage from the same session.
+// and then the stage from the same session, the cameras held and refined.
 TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRigAndItsStage) {
   testing::TempDir dir;
   const std::string views = dir / "field", truth = dir / "truth", out = dir / "cal.yaml";
@@ -196,6 +197,48 @@ TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRigAndItsStage) {
   EXPECT_GT(before.first, 0.1);
   EXPECT_LT(after.first, 0.01);
   EXPECT_LT(after.second, 0.002);
+
+  // --refine-cameras: the cameras and the stereo pair refined with the stage, each observed by
+  // the calibration calibrate stereo wrote, with its covariance. Written as report.json states
+  // them, each with a sigma no wider than its calibration's (the adjustment adds information to
+  // that prior), and the cameras' motions as close as before. (This session also calibrated the
+  // cameras, so its images count twice here; rig_cameras_test checks the sigmas' honesty.)
+  const std::string refined_out = dir / "refined.yaml";
+  const auto refine =
+      RunCommand(kExe + " calibrate rig --field-session " + views + " --control-field " + views +
+                 "/field.yaml --marks " + views + "/marks.yaml --calibration " + out + " --out " +
+                 refined_out + " --refine-cameras --json 2>/dev/null");
+  ASSERT_EQ(refine.exit_code, 0) << refine.out;
+  const auto f = nlohmann::json::parse(refine.out);
+  const Result<Calibration> refined = LoadCalibrationYaml(refined_out);
+  ASSERT_TRUE(refined.ok()) << refined.error();
+  const RigCameraVector given = RigCameraVectorOf(calibrated->rig),
+                        written = RigCameraVectorOf(refined->rig);
+  const RigCameraVector prior_sigma =
+      RigCameraSigmas({true, calibrated->rig, calibrated->left_precision,
+                       calibrated->right_precision, calibrated->stereo_precision});
+  const RigCameraVector written_sigma =
+      RigCameraSigmas({true, refined->rig, refined->left_precision, refined->right_precision,
+                       refined->stereo_precision});
+  int compared = 0;
+  for (int i = 0; i < kRigCameraParameterCount; ++i) {
+    const std::string name = RigCameraParameterName(i);
+    const auto& p = f["cameras"][name];
+    EXPECT_NEAR(p["value"].get<double>(), written[i], 1e-9 * std::abs(written[i]) + 1e-15) << name;
+    EXPECT_NEAR(p["change"].get<double>(), written[i] - given[i], 1e-9 * std::abs(written[i]))
+        << name;
+    EXPECT_NEAR(p["sigma"].get<double>(), written_sigma[i], 1e-12 + 1e-6 * written_sigma[i]);
+    if (p["held"].get<bool>()) {
+      EXPECT_EQ(prior_sigma[i], 0.0) << name << ": held only where its calibration fixed it";
+      continue;
+    }
+    ++compared;
+    EXPECT_LE(written_sigma[i], prior_sigma[i]) << name;
+  }
+  EXPECT_GE(compared, 10);
+  const auto refined_error = largest_error(*refined);
+  EXPECT_LT(refined_error.first, 0.01);
+  EXPECT_LT(refined_error.second, 0.002);
 
   const std::string camera_out = dir / "left.yaml";
   const auto one = RunCommand(kExe + " calibrate camera --images '" + views + "/left/*.png'" +
@@ -461,6 +504,11 @@ TEST(CalibrateRigCommand, WhatCannotBeTiedIsOneClearErrorAndNothingIsWritten) {
   EXPECT_NE(bad.out.find("session.json: stage_poses[0]: needs image, pan_deg and tilt_deg"),
             std::string::npos)
       << bad.out;
+  // Design cameras carry no precision to weigh them by: they cannot be refined.
+  const auto design = RunCommand(kExe + " calibrate rig " + station + " --refine-cameras" + common);
+  EXPECT_NE(design.exit_code, 0);
+  EXPECT_NE(design.out.find(dir / "cal.yaml: cameras.left: no precision"), std::string::npos)
+      << design.out;
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
