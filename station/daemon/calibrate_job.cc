@@ -33,7 +33,8 @@ std::string LastLine(const std::string& file) {
 }  // namespace
 
 Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& station_dirs,
-                                           const Calibration& start, const std::string& out_yaml,
+                                           const Calibration& start, bool refine_cameras,
+                                           const std::string& out_yaml,
                                            const std::function<bool()>& should_stop) {
   std::error_code ec;
   fs::create_directories(fs::path(out_yaml).parent_path(), ec);
@@ -42,6 +43,7 @@ Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& stati
   std::vector<std::string> args = {Topostation(), "calibrate", "rig"};
   args.insert(args.end(), station_dirs.begin(), station_dirs.end());
   args.insert(args.end(), {"--calibration", start_yaml, "--out", out_yaml, "--json"});
+  if (refine_cameras) args.push_back("--refine-cameras");
   const Result<pid_t> spawned = SpawnWithLog(args, log);
   if (!spawned) return Error{spawned.error()};
   const pid_t pid = *spawned;

@@ -13,10 +13,12 @@
 
 namespace ts::daemon {
 
-// `topostation calibrate rig DIRS... --calibration (start) --out out_yaml --json`; its JSON
-// report, or the error with the last line it wrote. `should_stop` is asked every 100 ms.
+// `topostation calibrate rig DIRS... --calibration (start) --out out_yaml --json`, with
+// --refine-cameras when asked; its JSON report, or the error with the last line it wrote.
+// `should_stop` is asked every 100 ms.
 Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& station_dirs,
-                                           const Calibration& start, const std::string& out_yaml,
+                                           const Calibration& start, bool refine_cameras,
+                                           const std::string& out_yaml,
                                            const std::function<bool()>& should_stop);
 
 }  // namespace ts::daemon

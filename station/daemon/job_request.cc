@@ -71,8 +71,11 @@ Status CheckGcps(const nlohmann::json& list) {
 constexpr size_t kMaxCalibrationStations = 20;
 
 Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
-  if (Status s = CheckKeys(body, "", {"kind", "stations", "notes"}); !s) return Error{s.error()};
+  if (Status s = CheckKeys(body, "", {"kind", "stations", "refine_cameras", "notes"}); !s)
+    return Error{s.error()};
   if (Status s = CheckText(body, "notes"); !s) return Error{s.error()};
+  if (body.contains("refine_cameras") && !body["refine_cameras"].is_boolean())
+    return Error{"refine_cameras: must be true or false"};
   const nlohmann::json& list = body.value("stations", nlohmann::json());
   if (!list.is_array() || list.empty() || list.size() > kMaxCalibrationStations)
     return Error{"stations: must be a list of 1-20 station ids"};

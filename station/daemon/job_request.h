@@ -9,7 +9,8 @@
 //    "single_row": false, "required_sigma_mgal": 0.01}   (what the verdict judges against)
 //   {"kind": "retake", "station": "G-0412", "poses": [{"pan_deg": 90, "tilt_deg": -12.7}]}
 //    (the poses a verdict named, taken again, then the station processed anew)
-//   {"kind": "calibrate_rig", "stations": ["G-0412", "G-0413"]}
+//   {"kind": "calibrate_rig", "stations": ["G-0412", "G-0413"], "refine_cameras": false}
+//    (calibrate rig on those stations; refine_cameras as its --refine-cameras)
 //   {"kind": "capture_field", "station": "field-2026-11", "field_pan_deg": 40,
 //    "field_tilt_deg": 5, "field_pans": 9, "field_tilts": 4}   (a calibration session, named
 //    by its station id; the grid as `capture --calibration field` takes it)

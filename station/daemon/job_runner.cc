@@ -423,7 +423,8 @@ void JobRunner::RunCalibrateJob(const Job& job) {
   if (!rig) return Record(job.id, JobState::kFailed, nullptr, rig.error());
   const std::string out =
       config_.state_dir + "/calibrations/rig-job-" + std::to_string(job.id) + ".yaml";
-  Result<nlohmann::json> report = CalibrateRigInChild(dirs, rig->calibration, out,
+  const bool refine_cameras = job.parameters.value("refine_cameras", false);
+  Result<nlohmann::json> report = CalibrateRigInChild(dirs, rig->calibration, refine_cameras, out,
                                                       [this] { return cancel_processing_.load(); });
   if (report) {
     (*report)["calibration_file"] = out;

@@ -190,6 +190,13 @@ TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) 
       LoadCalibrationYaml(calibrated["summary"]["calibration_file"].get<std::string>());
   ASSERT_TRUE(cal.ok()) << cal.error();
   EXPECT_GT(calibrated["summary"]["tie_points"].get<int>(), 100) << calibrated.dump();
+  // The rig's design cameras carry no precision: refining them fails with the reason.
+  auto refine =
+      d->Post("/jobs", {{"kind", "calibrate_rig"}, {"stations", {"S1"}}, {"refine_cameras", true}});
+  ASSERT_EQ(refine->status, 201) << refine->body;
+  const nlohmann::json refused = d->WaitForJob(nlohmann::json::parse(refine->body)["id"], Finished);
+  EXPECT_EQ(refused["state"], "failed") << refused.dump();
+  EXPECT_NE(refused.dump().find("cameras.left: no precision"), std::string::npos) << refused.dump();
   // A preview now comes from the camera itself.
   auto jpeg = d->Client().Get("/api/v1/cameras/left/snapshot.jpg");
   ASSERT_TRUE(jpeg);

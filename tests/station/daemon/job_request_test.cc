@@ -59,6 +59,13 @@ TEST(JobRequest, ACalibrationOfTheRigNamesItsStationsEachChecked) {
   EXPECT_EQ(r->kind, JobKind::kCalibrateRig);
   EXPECT_EQ(r->stations, (std::vector<std::string>{"S1", "S2"}));
   EXPECT_EQ(r->station, "S1");
+  EXPECT_TRUE(
+      ParseJobRequest({{"kind", "calibrate_rig"}, {"stations", {"S1"}}, {"refine_cameras", true}})
+          .ok());
+  const Result<JobRequest> not_a_flag =
+      ParseJobRequest({{"kind", "calibrate_rig"}, {"stations", {"S1"}}, {"refine_cameras", "yes"}});
+  ASSERT_FALSE(not_a_flag.ok());
+  EXPECT_EQ(not_a_flag.error(), "refine_cameras: must be true or false");
   for (const nlohmann::json& bad :
        {nlohmann::json{{"kind", "calibrate_rig"}, {"stations", {"S1", "../x"}}},
         nlohmann::json{{"kind", "calibrate_rig"}, {"stations", nlohmann::json::array()}},
