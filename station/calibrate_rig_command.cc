@@ -1,11 +1,10 @@
 // `calibrate rig STATION... --calibration CAL.yaml --out CAL.yaml` (issue 21): the stage
 // kinematics refined on captured panoramas' own tie points, the cameras and the stereo pair
-// held unless --refine-cameras (processing/pipeline/rig_check.h, the same check `process`
-// makes). Several stations of
-// the rig join one adjustment: the stage is shared, each station's levelling its own. A control
-// field session (`--field-session`: its targets measured with the calibration's cameras) joins
-// it as one more set-up, whose surveyed targets fix where the cameras stand. Refined cameras:
-// rig_cameras.h.
+// held unless --refine-cameras (rig_cameras.h; processing/pipeline/rig_check.h, the same
+// check `process` makes). Several stations of the rig join one adjustment: the stage is
+// shared, each station's levelling its own. A control field session (`--field-session`: its
+// targets measured with the calibration's cameras) joins it as one more set-up, whose surveyed
+// targets fix where the cameras stand.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
