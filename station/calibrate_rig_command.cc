@@ -23,6 +23,7 @@
 #include "station/calibration_report.h"
 #include "station/commands.h"
 #include "station/field_session.h"
+#include "station/option_flags.h"
 #include "station/plot_drawing.h"
 
 namespace ts {
@@ -33,7 +34,7 @@ struct CalibrateRigArgs {
   std::string calibration, out;
   std::string field_session, control_field, marks;
   bool json = false;
-  bool refine_cameras = false;
+  RigAdjustmentOptions adjustment;  // refine_cameras from the command line
   // The stations, then the field session: the set-ups of the adjustment, in its order.
   std::vector<std::string> SetUps() const {
     std::vector<std::string> all = stations;
@@ -90,9 +91,7 @@ RigCheck CheckSetUps(const CalibrateRigArgs& args, const Calibration& calibratio
   for (const std::string& station : args.stations)
     ties.push_back(StationTies(station, args.calibration));
   if (!args.field_session.empty()) ties.push_back(FieldTies(args, calibration));
-  RigAdjustmentOptions options;
-  options.refine_cameras = args.refine_cameras;
-  const Result<RigCheck> check = CheckRig(ties, options);
+  const Result<RigCheck> check = CheckRig(ties, args.adjustment);
   if (check) return *check;
   const std::vector<std::string> set_ups = args.SetUps();
   throw CommandError((set_ups.size() == 1 ? set_ups[0] : "calibrate rig") + ": " + check.error());
@@ -154,7 +153,7 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     if (!distinct.insert(StationKey(s)).second) throw CommandError(s + ": given twice");
   const Result<Calibration> given = LoadCalibrationYaml(args.calibration);
   if (!given) throw CommandError(given.error());
-  if (args.refine_cameras)
+  if (args.adjustment.refine_cameras)
     if (Status s = CheckCamerasRefinable(*given); !s)
       throw CommandError(args.calibration + ": " + s.error());
   const RigCheck check = CheckSetUps(args, *given);
@@ -223,9 +222,7 @@ void AddCalibrateRigCommand(CLI::App* calibrate) {
                   "the calibration to refine (its cameras and stereo pair held unless "
                   "--refine-cameras)")
       ->required();
-  rig->add_flag("--refine-cameras", args->refine_cameras,
-                "refine the cameras and the stereo pair too, weighed by the covariance their "
-                "calibration (calibrate camera / stereo) wrote");
+  AddDeclaredOption(rig, "--refine-cameras", args->adjustment, "refine_cameras");
   rig->add_option("--out", args->out, "calibration file (YAML) to write")->required();
   rig->add_flag("--json", args->json, "print one JSON object");
   rig->callback([args] { RunCalibrateRig(*args); });

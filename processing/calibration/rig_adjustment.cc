@@ -664,7 +664,7 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
                          u.levelling[in.poses[t.pose].station].data(),
                          u.encoder[t.pose].data(),
                          u.points[t.point].data(),
-                         u.cameras.intrinsics[t.side == Side::kLeft ? 0 : 1].data(),
+                         u.cameras.Intrinsics(t.side),
                          u.cameras.stereo.data()};
     TieCost(in.calibration, t, placements, 1.0).Evaluate(x, residual, nullptr);
     squares.push_back(residual[0] * residual[0] + residual[1] * residual[1]);

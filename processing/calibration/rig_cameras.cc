@@ -204,17 +204,16 @@ RigCameras RigCamerasOf(const Calibration& calibration, const RigCameraUnknowns&
   if (covariance.size() == 0) return r;
   r.refined = true;
   r.rig = u.Rig(calibration.rig);
-  const Eigen::MatrixXd& full = covariance;
   for (int side = 0; side < 2; ++side) {
     CameraPrecision& p = side == 0 ? r.left_precision : r.right_precision;
     p.covariance =
-        full.block(kBlockFirst[side], kBlockFirst[side], kIntrinsicsCount, kIntrinsicsCount);
+        covariance.block(kBlockFirst[side], kBlockFirst[side], kIntrinsicsCount, kIntrinsicsCount);
     for (int i = 0; i < kIntrinsicsCount; ++i)
       p.sigma[i] = std::sqrt(std::max(0.0, p.covariance(i, i)));
   }
   StereoPrecision& s = r.stereo_precision;
-  s.covariance =
-      full.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount, kStereoParameterCount);
+  s.covariance = covariance.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount,
+                                  kStereoParameterCount);
   s.baseline_sigma_m = std::sqrt(std::max(0.0, s.covariance(0, 0)));
   for (int k = 0; k < 3; ++k)
     s.relative_sigma_deg[k] = std::sqrt(std::max(0.0, s.covariance(1 + k, 1 + k)));

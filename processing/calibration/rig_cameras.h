@@ -52,6 +52,9 @@ struct RigCameraUnknowns {
   StereoVector stereo{};
   explicit RigCameraUnknowns(const StereoRig& rig);
   double* Intrinsics(Side side) { return intrinsics[side == Side::kLeft ? 0 : 1].data(); }
+  const double* Intrinsics(Side side) const {
+    return intrinsics[side == Side::kLeft ? 0 : 1].data();
+  }
   // The three blocks in the list's order.
   std::array<double*, 3> Blocks() {
     return {intrinsics[0].data(), intrinsics[1].data(), stereo.data()};

@@ -19,11 +19,10 @@ double Median(std::vector<double> v) {
 RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibration,
                          const RigAdjustment& adjustment, int station) {
   const double image_sigma_px = adjustment.image_sigma_px;
-  const Calibration& moved = calibration;
-  const CameraModel left(moved.rig.left);
-  const double c = moved.rig.left.principal_distance_px;
-  const auto l_from_left = [](const Calibration& calibration, const RigPose& pose) {
-    return calibration.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
+  const CameraModel left(calibration.rig.left);
+  const double c = calibration.rig.left.principal_distance_px;
+  const auto l_from_left = [](const Calibration& of, const RigPose& pose) {
+    return of.LFromCamera(Side::kLeft, pose.pan_deg, pose.tilt_deg);
   };
   // Each station's points were intersected with its own levelling; a levelling turns all of a
   // station's poses alike, so the seams do not depend on the one `stage` carries.
@@ -46,12 +45,13 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibr
     const int k = first_pose[t.point];
     if (t.pose == k || t.side != Side::kLeft || left_out[t.point]) continue;
     if (station >= 0 && in.poses[k].station != station) continue;
-    // The pair's point, moved with its pose from the input's stage to `stage`.
+    // The pair's point, moved with its pose's left camera from the input's calibration to
+    // `calibration`.
     const Eigen::Isometry3d move =
-        l_from_left(moved, in.poses[k]) *
+        l_from_left(calibration, in.poses[k]) *
         l_from_left(intersected[in.poses[k].station], in.poses[k]).inverse();
     const Eigen::Vector3d point = move * in.points[t.point];
-    const Eigen::Isometry3d camera_from_l = l_from_left(moved, in.poses[t.pose]).inverse();
+    const Eigen::Isometry3d camera_from_l = l_from_left(calibration, in.poses[t.pose]).inverse();
     const Eigen::Vector3d in_camera = camera_from_l * point;
     Eigen::Vector2d projected;
     CameraModel::Jacobian2x3 d_pixel;

@@ -163,11 +163,13 @@ TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRigAndItsStage) {
   // cameras just calibrated held. How each pose's left camera moves from the first pose's does
   // not depend on the levelling or the azimuth datum; it comes within 0.01 deg and 2 mm of the
   // truth, from the design stage's 0.1 deg or more.
+  const auto calibrate_rig = [&](const std::string& rig_out, const std::string& flags) {
+    return RunCommand(kExe + " calibrate rig --field-session " + views + " --control-field " +
+                      views + "/field.yaml --marks " + views + "/marks.yaml --calibration " + out +
+                      " --out " + rig_out + flags + " --json 2>/dev/null");
+  };
   const std::string rig_out = dir / "rig.yaml";
-  const auto rig =
-      RunCommand(kExe + " calibrate rig --field-session " + views + " --control-field " + views +
-                 "/field.yaml --marks " + views + "/marks.yaml --calibration " + out + " --out " +
-                 rig_out + " --json 2>/dev/null");
+  const auto rig = calibrate_rig(rig_out, "");
   ASSERT_EQ(rig.exit_code, 0) << rig.out;
   const auto g = nlohmann::json::parse(rig.out);
   ASSERT_EQ(g["control_fields"].size(), 1u);
@@ -204,10 +206,7 @@ TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRigAndItsStage) {
   // that prior), and the cameras' motions as close as before. (This session also calibrated the
   // cameras, so its images count twice here; rig_cameras_test checks the sigmas' honesty.)
   const std::string refined_out = dir / "refined.yaml";
-  const auto refine =
-      RunCommand(kExe + " calibrate rig --field-session " + views + " --control-field " + views +
-                 "/field.yaml --marks " + views + "/marks.yaml --calibration " + out + " --out " +
-                 refined_out + " --refine-cameras --json 2>/dev/null");
+  const auto refine = calibrate_rig(refined_out, " --refine-cameras");
   ASSERT_EQ(refine.exit_code, 0) << refine.out;
   const auto f = nlohmann::json::parse(refine.out);
   const Result<Calibration> refined = LoadCalibrationYaml(refined_out);
