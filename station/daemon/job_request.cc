@@ -19,6 +19,12 @@ Status CheckText(const nlohmann::json& body, const char* key) {
   return {};
 }
 
+Status CheckBoolean(const nlohmann::json& body, const char* key) {
+  if (body.contains(key) && !body[key].is_boolean())
+    return Error{std::string(key) + ": must be true or false"};
+  return {};
+}
+
 Status CheckNumber(const nlohmann::json& object, const std::string& path, const char* key,
                    double lo, double hi, bool required) {
   if (!object.contains(key)) {
@@ -74,8 +80,7 @@ Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
   if (Status s = CheckKeys(body, "", {"kind", "stations", "refine_cameras", "notes"}); !s)
     return Error{s.error()};
   if (Status s = CheckText(body, "notes"); !s) return Error{s.error()};
-  if (body.contains("refine_cameras") && !body["refine_cameras"].is_boolean())
-    return Error{"refine_cameras: must be true or false"};
+  if (Status s = CheckBoolean(body, "refine_cameras"); !s) return Error{s.error()};
   const nlohmann::json& list = body.value("stations", nlohmann::json());
   if (!list.is_array() || list.empty() || list.size() > kMaxCalibrationStations)
     return Error{"stations: must be a list of 1-20 station ids"};
@@ -179,10 +184,8 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
     if (Status s = CheckGnss(body["gnss"]); !s) return Error{s.error()};
   if (body.contains("gcps"))
     if (Status s = CheckGcps(body["gcps"]); !s) return Error{s.error()};
-  if (body.contains("single_row")) {
-    if (!body["single_row"].is_boolean()) return Error{"single_row: must be true or false"};
-    r.single_row = body["single_row"].get<bool>();
-  }
+  if (Status s = CheckBoolean(body, "single_row"); !s) return Error{s.error()};
+  r.single_row = body.value("single_row", r.single_row);
   r.fields = body;
   r.fields.erase("kind");
   return r;
