@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
@@ -22,14 +23,44 @@ struct BoardPrint {
   ChessboardOptions board;
   cv::Mat charuco;  // a ChArUco board as DrawCharucoBoard draws it; empty: a chessboard
   std::vector<Eigen::Vector2i> circle_markers;  // the squares with one (CircleMarkerCells)
+  // Per square (i + 1, j + 1), i in -1 .. columns - 1: one colour all over (no marker in it).
+  cv::Mat plain;
 };
 
+// The squares of one colour: a ChArUco square whose drawn block is, a chessboard's but those
+// with a circle marker.
+cv::Mat PlainSquares(const BoardPrint& p) {
+  const ChessboardOptions& b = p.board;
+  cv::Mat plain(b.rows + 1, b.columns + 1, CV_8UC1, cv::Scalar(1));
+  for (const Eigen::Vector2i& cell : p.circle_markers)
+    plain.at<uchar>(cell.y() + 1, cell.x() + 1) = 0;
+  if (p.charuco.empty()) return plain;
+  const int per_square = p.charuco.cols / (b.columns + 1);
+  for (int j = 0; j <= b.rows; ++j)
+    for (int i = 0; i <= b.columns; ++i) {
+      double low = 0.0, high = 0.0;
+      cv::minMaxLoc(p.charuco(cv::Rect(i * per_square, j * per_square, per_square, per_square)),
+                    &low, &high);
+      plain.at<uchar>(j, i) = (low > 127) == (high > 127);
+    }
+  return plain;
+}
+
 BoardPrint BoardPrintOf(const ChessboardOptions& board, const cv::Mat& charuco) {
-  BoardPrint print{board, charuco, {}};
+  BoardPrint print{board, charuco, {}, {}};
   if (board.circle_markers && charuco.empty())
     for (const Eigen::Vector2i& cell : CircleMarkerCells(board))
       print.circle_markers.push_back(cell);
+  print.plain = PlainSquares(print);
   return print;
+}
+
+// A cell of the board's plane (a square, or a square's worth of margin or wall beyond) that is
+// one colour all over.
+bool PlainCell(const BoardPrint& p, int64_t i, int64_t j) {
+  const ChessboardOptions& b = p.board;
+  if (i < -1 || j < -1 || i > b.columns - 1 || j > b.rows - 1) return true;
+  return p.plain.at<uchar>(static_cast<int>(j + 1), static_cast<int>(i + 1)) != 0;
 }
 
 // A chessboard square's radiance: black or white, or inverted within a circle marker.
@@ -192,21 +223,55 @@ cv::Mat RenderBoardView(const CameraIntrinsics& camera, const Eigen::Isometry3d&
   if (!board_in_view) return radiance;
   const cv::Rect extent = BoardExtent(model, camera_from_board, board);
   const BoardPrint print = BoardPrintOf(board, charuco_image);
+  // Where a pixel's point meets the board's plane; false behind the camera.
+  const auto on_board = [&](const Eigen::Vector2d& pixel, Eigen::Vector2d* point) {
+    const Eigen::Vector3d d = board_from_camera.linear() * model.RayFromPixel(pixel);
+    const double t = -origin.z() / d.z();
+    *point = (origin + t * d).head<2>();
+    return t > 0.0;
+  };
   const int s = supersampling;
-  cv::parallel_for_(cv::Range(extent.y, extent.y + extent.height), [&](const cv::Range& rows) {
-    for (int y = rows.start; y < rows.end; ++y)
-      for (int x = extent.x; x < extent.x + extent.width; ++x) {
-        double sum = 0.0;
-        for (int j = 0; j < s; ++j)
-          for (int i = 0; i < s; ++i) {
-            const Eigen::Vector2d pixel(x - 0.5 + (i + 0.5) / s, y - 0.5 + (j + 0.5) / s);
-            const Eigen::Vector3d d = board_from_camera.linear() * model.RayFromPixel(pixel);
-            const double t = -origin.z() / d.z();
-            sum += t > 0.0 ? BoardRadiance(print, origin.x() + t * d.x(), origin.y() + t * d.y())
-                           : kTargetBackground;
-          }
-        radiance.at<float>(y, x) = static_cast<float>(sum / (s * s));
+  const auto sampled = [&](int x, int y) {
+    double sum = 0.0;
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) {
+        Eigen::Vector2d point;
+        sum += on_board({x - 0.5 + (i + 0.5) / s, y - 0.5 + (j + 0.5) / s}, &point)
+                   ? BoardRadiance(print, point.x(), point.y())
+                   : kTargetBackground;
       }
+    return static_cast<float>(sum / (s * s));
+  };
+  // A pixel whose four corners meet the plane in one plain cell lies in it (the cell is convex,
+  // and a pixel's edges are straight on the plane to far below a pixel): its samples would all
+  // be the cell's colour. Only pixels across an edge are sampled.
+  const auto cell_of_corner = [&](int x, int y, Eigen::Vector2d* point) -> Eigen::Vector2i {
+    if (!on_board({x - 0.5, y - 0.5}, point)) return {INT32_MIN, INT32_MIN};
+    const double i = std::floor(point->x() / board.square),
+                 j = std::floor(point->y() / board.square);
+    if (!(std::abs(i) < 1e6 && std::abs(j) < 1e6)) return {INT32_MIN, INT32_MIN};
+    return {static_cast<int>(i), static_cast<int>(j)};
+  };
+  cv::parallel_for_(cv::Range(extent.y, extent.y + extent.height), [&](const cv::Range& rows) {
+    std::vector<Eigen::Vector2i> above(extent.width + 1), below(extent.width + 1);
+    std::vector<Eigen::Vector2d> point_above(extent.width + 1), point_below(extent.width + 1);
+    for (int x = 0; x <= extent.width; ++x)
+      above[x] = cell_of_corner(extent.x + x, rows.start, &point_above[x]);
+    for (int y = rows.start; y < rows.end; ++y) {
+      for (int x = 0; x <= extent.width; ++x)
+        below[x] = cell_of_corner(extent.x + x, y + 1, &point_below[x]);
+      for (int x = 0; x < extent.width; ++x) {
+        const Eigen::Vector2i cell = above[x];
+        const bool one_plain_cell = cell.x() != INT32_MIN && above[x + 1] == cell &&
+                                    below[x] == cell && below[x + 1] == cell &&
+                                    PlainCell(print, cell.x(), cell.y());
+        radiance.at<float>(y, extent.x + x) =
+            one_plain_cell ? BoardRadiance(print, point_above[x].x(), point_above[x].y())
+                           : sampled(extent.x + x, y);
+      }
+      std::swap(above, below);
+      std::swap(point_above, point_below);
+    }
   });
   return radiance;
 }
