@@ -100,10 +100,11 @@ TEST(SurveySim, TwoEpochsRecoverASubsidenceBowl) {
                               extra + " --json 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
   };
-  survey("e1", "");
-  // The second epoch with the first's calibration, as a campaign reuses one session.
+  // The estimated calibration's session is FlatSceneEndToEnd's; here the first epoch's
+  // calibration is the rig's own, which the second reuses as a campaign reuses one session.
+  survey("e1", "--true-calibration");
   survey("e2", "--epoch 2 --subsidence 9.5,6.5,7,0.5 --sun 120,40 --calibration " +
-                   (dir / "e1-calibration/calibration.yaml"));
+                   (dir / "e1-truth/calibration.yaml"));
   EXPECT_FALSE(std::filesystem::exists(dir / "e2-calibration"));
   const auto r = RunCommand(Exe() + " diff " + (dir / "e1") + " " + (dir / "e2") + " --out " +
                             (dir / "change") + " --truth " + (dir / "e2-truth") + " --json 2>&1");
