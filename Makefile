@@ -16,15 +16,22 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
 
-# The fuzzers' corpora are replayed under the sanitizers too (scripts/fuzz --replay).
+# The fuzzers' corpora are replayed under the sanitizers too (scripts/fuzz --replay). That and
+# the benchmarks' build, which no test needs, run beside ctest at the lowest priority: in the
+# time its serial tests (the simulated station's, one at a time) leave a core idle.
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
-	scripts/fuzz --replay
+	nice -n 19 sh -c 'cmake --build $(BUILD) -j$(JOBS) --target benchmarks && \
+	  scripts/fuzz --replay' >$(BUILD)/beside-tests.log 2>&1 & beside=$$!; \
+	(cd $(BUILD) && ctest --output-on-failure -j$(JOBS)); tests=$$?; \
+	wait $$beside; built=$$?; tail -n 20 $(BUILD)/beside-tests.log; \
+	if [ $$built -ne 0 ]; then echo "make test: benchmarks or fuzz replay failed ($(BUILD)/beside-tests.log)" >&2; fi; \
+	[ $$tests -eq 0 ] && [ $$built -eq 0 ]
 
 demo: build
 	scripts/demo $(BUILD)
 
 bench: build
+	cmake --build $(BUILD) -j$(JOBS) --target benchmarks
 	scripts/bench $(BUILD)
 
 # Each fuzzer for FUZZ_SECONDS; what finds new coverage joins fuzz/corpus/.
