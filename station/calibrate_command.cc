@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 
@@ -55,24 +56,39 @@ std::vector<std::string> ExpandGlob(const std::string& flag, const std::string& 
 }
 
 // The board in every image, the placement its index in the list; an image without the board
-// (a ChArUco board: without six of its corners) is named in the log and skipped.
+// (a ChArUco board: without six of its corners) is named in the log and skipped. The images
+// are read and searched side by side (the detector keeps a core busy only in part), one at a
+// time per thread; the views, the log and the first error come in the order of the files.
 TargetViews DetectBoards(const std::vector<std::string>& files, const CalibrateArgs& args,
                          std::vector<std::string>* skipped) {
+  struct Searched {
+    bool readable = false;
+    cv::Size size;
+    std::optional<TargetView> view;
+  };
+  std::vector<Searched> searched(files.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(files.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const cv::Mat grey = cv::imread(files[i], cv::IMREAD_GRAYSCALE);
+      searched[i] = {!grey.empty(), grey.size(), {}};
+      if (!grey.empty()) searched[i].view = DetectBoard(grey, args.board);
+    }
+  });
   TargetViews views;
   views.target = args.board.Corners();
   for (size_t i = 0; i < files.size(); ++i) {
     const std::string& file = files[i];
-    const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
-    if (grey.empty()) throw CommandError(file + ": not a readable image");
-    if (views.width_px == 0) views.width_px = grey.cols, views.height_px = grey.rows;
-    if (grey.cols != views.width_px || grey.rows != views.height_px)
-      throw CommandError(file + ": " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
-                         " pixels, the first image has " + std::to_string(views.width_px) + "x" +
-                         std::to_string(views.height_px));
-    if (std::optional<TargetView> view = DetectBoard(grey, args.board)) {
-      view->name = std::filesystem::path(file).filename().string();
-      view->placement = static_cast<int>(i);
-      views.views.push_back(std::move(*view));
+    Searched& s = searched[i];
+    if (!s.readable) throw CommandError(file + ": not a readable image");
+    if (views.width_px == 0) views.width_px = s.size.width, views.height_px = s.size.height;
+    if (s.size.width != views.width_px || s.size.height != views.height_px)
+      throw CommandError(file + ": " + std::to_string(s.size.width) + "x" +
+                         std::to_string(s.size.height) + " pixels, the first image has " +
+                         std::to_string(views.width_px) + "x" + std::to_string(views.height_px));
+    if (s.view) {
+      s.view->name = std::filesystem::path(file).filename().string();
+      s.view->placement = static_cast<int>(i);
+      views.views.push_back(std::move(*s.view));
     } else {
       skipped->push_back(file);
       Log().warn("{}: {} not found{}; view skipped", file, args.board.Describe(),
