@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "acquisition/pair_sequencer.h"
@@ -123,7 +124,6 @@ Result<BoardPair> BoardCapture::TakePair() {
   BoardPair pair;
   pair.name = FileNumber(index + 1);
   pair.exposure_us = sequencer_->exposure_us;
-  std::optional<TargetView> found[2];
   const cv::Mat* images[2] = {&frames->left.image, &frames->right.image};
   for (int i = 0; i < 2; ++i) {
     TargetViews& views = i == 0 ? left_views_ : right_views_;
@@ -133,10 +133,17 @@ Result<BoardPair> BoardCapture::TakePair() {
       return Error{fmt::format("{}: {}x{} pixels, the pairs already in {} have {}x{}",
                                (i == 0 ? left_ : right_).Describe(), image.cols, image.rows, dir_,
                                views.width_px, views.height_px)};
-    cv::Mat grey = image;
-    if (image.depth() == CV_16U) image.convertTo(grey, CV_8U, 1.0 / 256.0);
-    found[i] = DetectBoard(grey, board_);
   }
+  // The two images are searched side by side: the detector keeps a core busy only in part, and
+  // the operator waits for the pair's verdict before moving the board.
+  std::optional<TargetView> found[2];
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      cv::Mat grey = *images[i];
+      if (grey.depth() == CV_16U) images[i]->convertTo(grey, CV_8U, 1.0 / 256.0);
+      found[i] = DetectBoard(grey, board_);
+    }
+  });
   pair.corners_left = found[0] ? static_cast<int>(found[0]->pixels.size()) : 0;
   pair.corners_right = found[1] ? static_cast<int>(found[1]->pixels.size()) : 0;
   pair.kept = found[0] || found[1];
