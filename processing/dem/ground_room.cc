@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "processing/common/angles.h"
+
 namespace ts {
 
 bool GroundRoomOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
@@ -40,9 +42,13 @@ Eigen::Vector2d GradientAt(const Raster& dem, int r, int c) {
          dem.cell_m;
 }
 
-// Distance (m) from each cell centre to the nearest point, on a grid a quarter cell fine that
+// How near the ground points come to each cell centre, on a grid a quarter cell fine that
 // reaches margin_m beyond the DEM (points there count).
-cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double margin_m) {
+struct NearestPoints {
+  cv::Mat distance;    // (m, CV_64F) to the nearest point
+  cv::Mat surrounded;  // (CV_8U) the points within a cell of that distance lie all around it
+};
+NearestPoints FindNearestPoints(const KrigingPoints& ground, const Raster& dem, double margin_m) {
   constexpr int kRatio = 4;
   const double fine = dem.cell_m / kRatio;
   const int margin = static_cast<int>(std::ceil(margin_m / fine));
@@ -55,12 +61,21 @@ cv::Mat DistanceToPoints(const KrigingPoints& ground, const Raster& dem, double 
   }
   cv::Mat distance;
   cv::distanceTransform(free, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::Mat at_centres(dem.rows, dem.cols, CV_64F);
+  NearestPoints out{cv::Mat(dem.rows, dem.cols, CV_64F), cv::Mat(dem.rows, dem.cols, CV_8U)};
   for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c)
-      at_centres.at<double>(r, c) = fine * distance.at<float>(r * kRatio + kRatio / 2 + margin,
-                                                              c * kRatio + kRatio / 2 + margin);
-  return at_centres;
+    for (int c = 0; c < dem.cols; ++c) {
+      const int fr = r * kRatio + kRatio / 2 + margin, fc = c * kRatio + kRatio / 2 + margin;
+      const double d = fine * distance.at<float>(fr, fc);
+      out.distance.at<double>(r, c) = d;
+      // The fine cells' centres are half a fine cell off the cell's centre (kRatio is even).
+      const int reach = static_cast<int>(std::ceil((d + dem.cell_m) / fine));
+      std::vector<double> angles;
+      for (int rr = std::max(0, fr - reach); rr <= std::min(free.rows - 1, fr + reach); ++rr)
+        for (int cc = std::max(0, fc - reach); cc <= std::min(free.cols - 1, fc + reach); ++cc)
+          if (!free.at<uint8_t>(rr, cc)) angles.push_back(std::atan2(fr - rr - 0.5, cc - fc + 0.5));
+      out.surrounded.at<uint8_t>(r, c) = LargestAngularGap(std::move(angles)) <= M_PI;
+    }
+  return out;
 }
 
 // Ground points per DEM cell.
@@ -190,7 +205,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];
   }
   const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
-  const cv::Mat distance = DistanceToPoints(ground, dem, o.slope_window_m);
+  const NearestPoints nearest = FindNearestPoints(ground, dem, o.slope_window_m);
   std::vector<double> widening, departures;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
@@ -198,7 +213,10 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       if (Raster::IsNoData(dem.at(r, c)) || Raster::IsNoData(s)) continue;
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
       // The centre of a cell seen at one corner is as unseen as ground that far from a point.
-      double room = 0.5 * turn.at<float>(r, c) * distance.at<double>(r, c);
+      // Ground with points all around the centre shows its own turns: in the points' departure
+      // from the DEM here, and in kriging's sigma between them.
+      double room = 0.5 * turn.at<float>(r, c) * nearest.distance.at<double>(r, c);
+      if (count[cell] > 0 && nearest.surrounded.at<uint8_t>(r, c)) room = 0.0;
       double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;

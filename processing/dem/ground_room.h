@@ -10,8 +10,11 @@
 //    dike may turn away from that slope as much as the seen ground turns near it, by up to
 //    t d with t the range of the seen cells' gradients within slope_window_m. That room is
 //    taken as two standard deviations. It is what matters in cells nobody saw (no ground
-//    point in them), and at the centre of a cell seen at one corner. The lines of sight above
-//    (free_space.h) have already taken the DEM down to where the ground can be.
+//    point in them), and at the centre of a cell seen at one corner. A seen cell whose centre
+//    has points all around it (no gap over 180 degrees among those within a cell of its
+//    nearest) shows its own turns, in the departure above and in kriging's sigma: no room. The
+//    lines of sight above (free_space.h) have already taken the DEM down to where the ground can
+//    be.
 //  - in a cell nobody saw behind a brow, the room below: the lowest line of sight over it
 //    grazed the brow and landed on the first ground seen past (a terrace's lower tread, a
 //    dike's far field, a gully's far wall), and kriging bridged the DEM across. The ground

@@ -4,7 +4,10 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
+#include <optional>
+#include <random>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -134,19 +137,74 @@ KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
   return thinned;
 }
 
+namespace {
+
+// Each point's nugget: its own variance where it is larger than the fitted one; none for the
+// surveyed points (listed after the matched ones, as KrigingPoints::All() has them).
+std::vector<double> NuggetsOf(const KrigingPoints& points, const VariogramModel& model) {
+  std::vector<double> nugget(points.positions.size() + points.surveyed.size(), 0.0);
+  for (size_t i = 0; i < points.positions.size(); ++i)
+    nugget[i] = points.height_variances_m2.empty()
+                    ? model.nugget
+                    : std::max(model.nugget, points.height_variances_m2[i]);
+  return nugget;
+}
+
+struct Estimate {
+  double z = 0.0, variance = 0.0;
+};
+
+// The kriged surface at (x, y), or none where the nearest point is beyond max_distance_m.
+std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<double>& nugget, const VariogramModel& model,
+                                const KrigingOptions& o, double x, double y,
+                                std::vector<Candidate>* near_buffer) {
+  std::vector<Candidate>& near = *near_buffer;
+  FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, &near);
+  if (near.empty() || near.front().distance > o.max_distance_m) return std::nullopt;
+  // Beyond the edge of the data the drift is extrapolated: from more neighbours, a slope of the
+  // region rather than of the edge's last metre.
+  if (o.linear_drift && static_cast<int>(near.size()) >= kMinDriftPoints &&
+      o.extrapolation_neighbours > o.neighbours && BeyondTheEdge(points, near, x, y))
+    FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, &near);
+  const int n = static_cast<int>(near.size());
+  // Local linear drift (universal kriging) where the points allow: a gap on a slope is bridged
+  // along the slope, not levelled towards the neighbours' mean.
+  const int drift = (o.linear_drift && n >= kMinDriftPoints) ? 3 : 1;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + drift, n + drift);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = points[near[i].index];
+    a(i, i) = model.partial_sill + nugget[near[i].index];
+    for (int j = i + 1; j < n; ++j) {
+      const Eigen::Vector3d& q = points[near[j].index];
+      a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));
+    }
+    a(i, n) = a(n, i) = 1.0;
+    if (drift == 3) {
+      a(i, n + 1) = a(n + 1, i) = p.x() - x;
+      a(i, n + 2) = a(n + 2, i) = p.y() - y;
+    }
+    b[i] = model.SignalCovariance(near[i].distance);
+  }
+  b[n] = 1.0;
+  const Eigen::VectorXd solution = a.fullPivLu().solve(b);
+  if (!solution.allFinite()) return std::nullopt;
+  Estimate e;
+  for (int i = 0; i < n; ++i) e.z += solution[i] * points[near[i].index].z();
+  e.variance = std::max(0.0, model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n]);
+  return e;
+}
+
+}  // namespace
+
 void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
                const KrigingOptions& o, Raster* dem, Raster* std_dev) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
   CheckVariances(kriging_points, "KrigeOnto");
   const std::vector<Eigen::Vector3d> points = kriging_points.All();
-  // Each point's nugget: its own variance where it is larger than the fitted one; none for
-  // the surveyed points.
-  std::vector<double> nugget(points.size(), 0.0);
-  for (size_t i = 0; i < kriging_points.positions.size(); ++i)
-    nugget[i] = kriging_points.height_variances_m2.empty()
-                    ? model.nugget
-                    : std::max(model.nugget, kriging_points.height_variances_m2[i]);
+  const std::vector<double> nugget = NuggetsOf(kriging_points, model);
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
@@ -156,45 +214,81 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
     std::vector<Candidate> near;
     for (int row = rows.start; row < rows.end; ++row)
       for (int col = 0; col < dem->cols; ++col) {
-        const double x = dem->CellCentreX(col), y = dem->CellCentreY(row);
-        FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, &near);
-        if (near.empty() || near.front().distance > o.max_distance_m) continue;
-        // Beyond the edge of the data the drift is extrapolated: from more neighbours, a slope
-        // of the region rather than of the edge's last metre.
-        if (o.linear_drift && static_cast<int>(near.size()) >= kMinDriftPoints &&
-            o.extrapolation_neighbours > o.neighbours && BeyondTheEdge(points, near, x, y))
-          FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, &near);
-        const int n = static_cast<int>(near.size());
-        // Local linear drift (universal kriging) where the points allow: a gap on a slope is
-        // bridged along the slope, not levelled towards the neighbours' mean.
-        const int drift = (o.linear_drift && n >= kMinDriftPoints) ? 3 : 1;
-        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + drift, n + drift);
-        Eigen::VectorXd b = Eigen::VectorXd::Zero(n + drift);
-        for (int i = 0; i < n; ++i) {
-          const Eigen::Vector3d& p = points[near[i].index];
-          a(i, i) = model.partial_sill + nugget[near[i].index];
-          for (int j = i + 1; j < n; ++j) {
-            const Eigen::Vector3d& q = points[near[j].index];
-            a(i, j) = a(j, i) = model.SignalCovariance(std::hypot(p.x() - q.x(), p.y() - q.y()));
-          }
-          a(i, n) = a(n, i) = 1.0;
-          if (drift == 3) {
-            a(i, n + 1) = a(n + 1, i) = p.x() - x;
-            a(i, n + 2) = a(n + 2, i) = p.y() - y;
-          }
-          b[i] = model.SignalCovariance(near[i].distance);
-        }
-        b[n] = 1.0;
-        const Eigen::VectorXd solution = a.fullPivLu().solve(b);
-        if (!solution.allFinite()) continue;
-        double z = 0.0;
-        for (int i = 0; i < n; ++i) z += solution[i] * points[near[i].index].z();
-        const double variance =
-            std::max(0.0, model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n]);
-        dem->at(row, col) = static_cast<float>(z);
-        std_dev->at(row, col) = static_cast<float>(std::sqrt(variance));
+        const std::optional<Estimate> e = KrigeAt(
+            grid, points, nugget, model, o, dem->CellCentreX(col), dem->CellCentreY(row), &near);
+        if (!e) continue;
+        dem->at(row, col) = static_cast<float>(e->z);
+        std_dev->at(row, col) = static_cast<float>(std::sqrt(e->variance));
       }
   });
+}
+
+std::vector<double> BlockCrossValidationErrors(const KrigingPoints& points,
+                                               const std::vector<VariogramModel>& models,
+                                               const KrigingOptions& o) {
+  const std::vector<double> none(models.size(), std::numeric_limits<double>::quiet_NaN());
+  // The held-out blocks: a seeded random choice of the squares with points.
+  const GridIndex blocks(points.positions, o.cross_validation_block_m);
+  std::vector<std::pair<int, int>> occupied;
+  for (int r = 0; r < blocks.rows(); ++r)
+    for (int c = 0; c < blocks.cols(); ++c)
+      if (blocks.Count(c, r) > 0) occupied.emplace_back(c, r);
+  if (occupied.size() < 4) return none;
+  std::mt19937 rng(o.variogram.seed);
+  std::shuffle(occupied.begin(), occupied.end(), rng);
+  occupied.resize(std::min<size_t>(occupied.size(), o.cross_validation_blocks));
+  // A few points of each block are predicted (spread through it): enough to rank the kinds.
+  constexpr int kPredictedPerBlock = 8;
+  std::vector<char> held_out(points.positions.size(), 0);
+  std::vector<int> predicted_points;
+  for (const auto& [c, r] : occupied) {
+    const int count = blocks.Count(c, r);
+    for (const int* i = blocks.begin(c, r); i != blocks.end(c, r); ++i) held_out[*i] = 1;
+    for (int k = 0; k < std::min(count, kPredictedPerBlock); ++k)
+      predicted_points.push_back(
+          blocks.begin(c, r)[k * count / std::min(count, kPredictedPerBlock)]);
+  }
+  KrigingPoints training;
+  training.surveyed = points.surveyed;
+  for (size_t i = 0; i < points.positions.size(); ++i) {
+    if (held_out[i]) continue;
+    training.positions.push_back(points.positions[i]);
+    if (!points.height_variances_m2.empty())
+      training.height_variances_m2.push_back(points.height_variances_m2[i]);
+  }
+  const std::vector<Eigen::Vector3d> all = training.All();
+  if (all.empty()) return none;
+  std::vector<std::vector<double>> nuggets;
+  for (const VariogramModel& m : models) nuggets.push_back(NuggetsOf(training, m));
+  const GridIndex grid(all, std::max(0.5, o.max_distance_m / 2));
+  // Squared errors per predicted point and model; a point none predicts is left out of all.
+  const size_t kinds = models.size();
+  std::vector<double> error2(predicted_points.size() * kinds,
+                             std::numeric_limits<double>::quiet_NaN());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(predicted_points.size())),
+                    [&](const cv::Range& range) {
+                      std::vector<Candidate> near;
+                      for (int k = range.start; k < range.end; ++k) {
+                        const Eigen::Vector3d& p = points.positions[predicted_points[k]];
+                        for (size_t m = 0; m < kinds; ++m) {
+                          const std::optional<Estimate> e =
+                              KrigeAt(grid, all, nuggets[m], models[m], o, p.x(), p.y(), &near);
+                          if (e) error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
+                        }
+                      }
+                    });
+  std::vector<double> sum2(kinds, 0.0);
+  int predicted = 0;
+  for (size_t k = 0; k < predicted_points.size(); ++k) {
+    const double* e2 = &error2[k * kinds];
+    if (!std::all_of(e2, e2 + kinds, [](double v) { return std::isfinite(v); })) continue;
+    for (size_t m = 0; m < kinds; ++m) sum2[m] += e2[m];
+    ++predicted;
+  }
+  if (predicted == 0) return none;
+  std::vector<double> rms(kinds);
+  for (size_t m = 0; m < kinds; ++m) rms[m] = std::sqrt(sum2[m] / predicted);
+  return rms;
 }
 
 KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const KrigingOptions& o) {
@@ -208,7 +302,19 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   // a slope's s^2 h^2 / 2, is what the drift takes out; left in, it overstates the std.
   result.experimental = ComputeExperimentalVariogram(
       o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram);
+  // The kind of variogram that predicts held-out ground best: the fits differ most in how they
+  // bridge gaps, which their fit to the variogram's bins does not show.
   result.model = FitVariogram(result.experimental);
+  if (o.cross_validation_blocks > 0) {
+    const std::vector<VariogramModel> fits = FitVariogramOfEachKind(result.experimental);
+    const std::vector<double> errors = BlockCrossValidationErrors(thinned, fits, o);
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < fits.size(); ++k) {
+      if (!std::isfinite(errors[k])) continue;  // too few points to hold any out
+      result.cross_validation.push_back({fits[k], errors[k]});
+      if (errors[k] < best) best = errors[k], result.model = fits[k];
+    }
+  }
   result.dem = grid;
   KrigeOnto(thinned, result.model, o, &result.dem, &result.std);
   return result;

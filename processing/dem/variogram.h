@@ -2,8 +2,10 @@
 // The semivariogram of ground heights for ordinary kriging: the experimental variogram from
 // pairs of points binned by horizontal distance, and a model fitted to it,
 //   gamma(h) = nugget + partial_sill * f(h / range)
-// with f spherical, exponential (practical range: 95 % of the sill at `range`) or Gaussian
-// (likewise), whichever fits best. For each model the range is searched on a fine grid and,
+// with f spherical, exponential (practical range: 95 % of the sill at `range`), Gaussian or
+// Matern 3/2 (likewise; parabolic at the origin like the Gaussian, but a surface differentiable
+// only once), whichever fits best (kriging.h chooses among the fits by cross-validation
+// instead). For each model the range is searched on a fine grid and,
 // given the range, nugget and partial sill follow from weighted least squares (Cressie's
 // weights: pairs in the bin over gamma squared), both kept non-negative.
 #include <Eigen/Core>
@@ -47,7 +49,7 @@ struct VariogramOptions {
 ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
                                                    const VariogramOptions& options);
 
-enum class VariogramKind { kSpherical, kExponential, kGaussian };
+enum class VariogramKind { kSpherical, kExponential, kGaussian, kMatern32 };
 const char* VariogramKindName(VariogramKind kind);
 
 struct VariogramModel {
@@ -68,5 +70,7 @@ struct VariogramModel {
 // with fit_error = infinity).
 VariogramModel FitVariogram(const ExperimentalVariogram& experimental);
 VariogramModel FitVariogram(const ExperimentalVariogram& experimental, VariogramKind kind);
+// One fit of each kind that FitVariogram(experimental) may choose from.
+std::vector<VariogramModel> FitVariogramOfEachKind(const ExperimentalVariogram& experimental);
 
 }  // namespace ts

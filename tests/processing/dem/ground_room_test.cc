@@ -98,5 +98,26 @@ TEST(GroundRoom, GroundHiddenBehindABrowMayLieDownToWhereTheLowestLineLanded) {
   EXPECT_NEAR(other.std.at(10, 9), std::hypot(0.01, 0.5 * 0.4 * (9.5 - 6.875)), 0.06);
 }
 
+// Ground kinked at x = 5 m (the seen slopes within 5 m turn by 0.4), seen up to x = 7.25 m.
+// A seen cell with points all around its centre (x 6-7 m) shows its own turns: kriging's std
+// is left as it is. The centre of a cell seen only along its western edge (x 7-8 m) lies
+// beyond the data, 0.5 m from them on the quarter-cell grid the distances are measured on:
+// the turn's room 0.4 * 0.5 / 2 is added.
+TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheTurnsRoom) {
+  auto kinked = [](double x) { return 0.2 * std::abs(x - 5.0); };
+  KrigingPoints ground;
+  Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), std = dem;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      dem.at(r, c) = static_cast<float>(kinked(dem.CellCentreX(c)));
+      std.at(r, c) = 0.01f;
+    }
+  for (double y = 0.125; y < 20.0; y += 0.25)
+    for (double x = 0.125; x < 7.25; x += 0.25) ground.positions.emplace_back(x, y, kinked(x));
+  WidenStdByGroundRoom(ground, dem, nullptr, {}, &std);
+  EXPECT_NEAR(std.at(10, 6), 0.01, 1e-4);
+  EXPECT_NEAR(std.at(10, 7), std::hypot(0.01, 0.5 * 0.4 * 0.5), 0.005);
+}
+
 }  // namespace
 }  // namespace ts

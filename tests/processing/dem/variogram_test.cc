@@ -82,8 +82,8 @@ ExperimentalVariogram FromModel(const VariogramModel& m) {
 }
 
 TEST(Variogram, FitRecoversEachKindAndItsParameters) {
-  for (VariogramKind kind :
-       {VariogramKind::kSpherical, VariogramKind::kExponential, VariogramKind::kGaussian}) {
+  for (VariogramKind kind : {VariogramKind::kSpherical, VariogramKind::kExponential,
+                             VariogramKind::kGaussian, VariogramKind::kMatern32}) {
     VariogramModel truth;
     truth.kind = kind;
     truth.nugget = 0.01;
