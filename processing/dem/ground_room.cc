@@ -42,41 +42,47 @@ Eigen::Vector2d GradientAt(const Raster& dem, int r, int c) {
          dem.cell_m;
 }
 
-// How near the ground points come to each cell centre, on a grid a quarter cell fine that
-// reaches margin_m beyond the DEM (points there count).
-struct NearestPoints {
-  cv::Mat distance;    // (m, CV_64F) to the nearest point
-  cv::Mat surrounded;  // (CV_8U) the points within a cell of that distance lie all around it
-};
-NearestPoints FindNearestPoints(const KrigingPoints& ground, const Raster& dem, double margin_m) {
-  constexpr int kRatio = 4;
-  const double fine = dem.cell_m / kRatio;
-  const int margin = static_cast<int>(std::ceil(margin_m / fine));
-  cv::Mat free(dem.rows * kRatio + 2 * margin, dem.cols * kRatio + 2 * margin, CV_8U,
-               cv::Scalar(255));
-  for (const Eigen::Vector3d& p : ground.All()) {
-    const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / fine)) + margin;
-    const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / fine)) + margin;
-    if (c >= 0 && r >= 0 && c < free.cols && r < free.rows) free.at<uint8_t>(r, c) = 0;
-  }
-  cv::Mat distance;
-  cv::distanceTransform(free, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  NearestPoints out{cv::Mat(dem.rows, dem.cols, CV_64F), cv::Mat(dem.rows, dem.cols, CV_8U)};
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c) {
-      const int fr = r * kRatio + kRatio / 2 + margin, fc = c * kRatio + kRatio / 2 + margin;
-      const double d = fine * distance.at<float>(fr, fc);
-      out.distance.at<double>(r, c) = d;
-      // The fine cells' centres are half a fine cell off the cell's centre (kRatio is even).
-      const int reach = static_cast<int>(std::ceil((d + dem.cell_m) / fine));
-      std::vector<double> angles;
-      for (int rr = std::max(0, fr - reach); rr <= std::min(free.rows - 1, fr + reach); ++rr)
-        for (int cc = std::max(0, fc - reach); cc <= std::min(free.cols - 1, fc + reach); ++cc)
-          if (!free.at<uint8_t>(rr, cc)) angles.push_back(std::atan2(fr - rr - 0.5, cc - fc + 0.5));
-      out.surrounded.at<uint8_t>(r, c) = LargestAngularGap(std::move(angles)) <= M_PI;
+// The ground points on a grid a quarter cell fine that reaches margin_m beyond the DEM (points
+// there count), and how near they come to each cell centre.
+class FinePoints {
+ public:
+  FinePoints(const KrigingPoints& ground, const Raster& dem, double margin_m)
+      : fine_(dem.cell_m / kRatio), margin_(static_cast<int>(std::ceil(margin_m / fine_))) {
+    free_ = cv::Mat(dem.rows * kRatio + 2 * margin_, dem.cols * kRatio + 2 * margin_, CV_8U,
+                    cv::Scalar(255));
+    for (const Eigen::Vector3d& p : ground.All()) {
+      const int c = static_cast<int>(std::floor((p.x() - dem.min_x_m) / fine_)) + margin_;
+      const int r = static_cast<int>(std::floor((dem.max_y_m - p.y()) / fine_)) + margin_;
+      if (c >= 0 && r >= 0 && c < free_.cols && r < free_.rows) free_.at<uint8_t>(r, c) = 0;
     }
-  return out;
-}
+    cv::distanceTransform(free_, distance_, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  }
+  // Distance (m) from the centre of DEM cell (r, c) to the nearest point.
+  double DistanceToCentre(int r, int c) const {
+    return fine_ * distance_.at<float>(FineRow(r), FineCol(c));
+  }
+  // Whether the points within cell_m of the nearest one lie all around the centre (no gap
+  // over 180 degrees among them).
+  bool CentreSurrounded(int r, int c, double cell_m) const {
+    const int fr = FineRow(r), fc = FineCol(c);
+    const int reach = static_cast<int>(std::ceil((DistanceToCentre(r, c) + cell_m) / fine_));
+    std::vector<double> angles;
+    for (int rr = std::max(0, fr - reach); rr <= std::min(free_.rows - 1, fr + reach); ++rr)
+      for (int cc = std::max(0, fc - reach); cc <= std::min(free_.cols - 1, fc + reach); ++cc)
+        // The fine cell (fr, fc)'s centre is half a fine cell off the DEM cell's (kRatio is even).
+        if (!free_.at<uint8_t>(rr, cc)) angles.push_back(std::atan2(fr - rr - 0.5, cc - fc + 0.5));
+    return LargestAngularGap(std::move(angles)) <= M_PI;
+  }
+
+ private:
+  static constexpr int kRatio = 4;
+  int FineRow(int r) const { return r * kRatio + kRatio / 2 + margin_; }
+  int FineCol(int c) const { return c * kRatio + kRatio / 2 + margin_; }
+  double fine_;
+  int margin_;
+  cv::Mat free_;      // 0 where a point lies
+  cv::Mat distance_;  // fine cells to the nearest point
+};
 
 // Ground points per DEM cell.
 std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
@@ -205,7 +211,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];
   }
   const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
-  const NearestPoints nearest = FindNearestPoints(ground, dem, o.slope_window_m);
+  const FinePoints fine_points(ground, dem, o.slope_window_m);
   std::vector<double> widening, departures;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
@@ -215,8 +221,8 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       // The centre of a cell seen at one corner is as unseen as ground that far from a point.
       // Ground with points all around the centre shows its own turns: in the points' departure
       // from the DEM here, and in kriging's sigma between them.
-      double room = 0.5 * turn.at<float>(r, c) * nearest.distance.at<double>(r, c);
-      if (count[cell] > 0 && nearest.surrounded.at<uint8_t>(r, c)) room = 0.0;
+      double room = 0.5 * turn.at<float>(r, c) * fine_points.DistanceToCentre(r, c);
+      if (count[cell] > 0 && fine_points.CentreSurrounded(r, c, dem.cell_m)) room = 0.0;
       double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;

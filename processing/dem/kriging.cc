@@ -304,9 +304,9 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
       o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram);
   // The kind of variogram that predicts held-out ground best: the fits differ most in how they
   // bridge gaps, which their fit to the variogram's bins does not show.
-  result.model = FitVariogram(result.experimental);
+  const std::vector<VariogramModel> fits = FitVariogramOfEachKind(result.experimental);
+  result.model = BestFit(fits);
   if (o.cross_validation_blocks > 0) {
-    const std::vector<VariogramModel> fits = FitVariogramOfEachKind(result.experimental);
     const std::vector<double> errors = BlockCrossValidationErrors(thinned, fits, o);
     double best = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < fits.size(); ++k) {

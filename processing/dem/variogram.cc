@@ -191,11 +191,15 @@ std::vector<VariogramModel> FitVariogramOfEachKind(const ExperimentalVariogram& 
   return fits;
 }
 
+VariogramModel BestFit(const std::vector<VariogramModel>& fits) {
+  // The spherical comes first: it is kept when no fit is finite.
+  return *std::min_element(
+      fits.begin(), fits.end(),
+      [](const VariogramModel& a, const VariogramModel& b) { return a.fit_error < b.fit_error; });
+}
+
 VariogramModel FitVariogram(const ExperimentalVariogram& e) {
-  VariogramModel best = FitVariogram(e, VariogramKind::kSpherical);
-  for (const VariogramModel& m : FitVariogramOfEachKind(e))
-    if (m.fit_error < best.fit_error) best = m;
-  return best;
+  return BestFit(FitVariogramOfEachKind(e));
 }
 
 }  // namespace ts

@@ -70,7 +70,9 @@ struct VariogramModel {
 // with fit_error = infinity).
 VariogramModel FitVariogram(const ExperimentalVariogram& experimental);
 VariogramModel FitVariogram(const ExperimentalVariogram& experimental, VariogramKind kind);
-// One fit of each kind that FitVariogram(experimental) may choose from.
+// One fit of each kind that FitVariogram(experimental) may choose from, the spherical first,
+// and the one of them that FitVariogram chooses.
 std::vector<VariogramModel> FitVariogramOfEachKind(const ExperimentalVariogram& experimental);
+VariogramModel BestFit(const std::vector<VariogramModel>& fits);
 
 }  // namespace ts
