@@ -132,7 +132,7 @@ KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
         if (weighted) variance_sum += points.height_variances_m2[*i];
       }
       thinned.positions.push_back(sum / count);
-      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count / count);
+      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count);
     }
   return thinned;
 }

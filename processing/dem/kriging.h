@@ -11,8 +11,8 @@
 // noisy point, and sigma is the standard deviation of that estimate. Without a nugget this is the
 // exact interpolator. Cells farther than max_distance_m from any point are nodata: the DEM says
 // where it was not seen instead of inventing terrain. Dense clouds are thinned first to the mean
-// point of each thin_cell_m square (averaging the matching noise; the variogram and the
-// neighbourhood then see the terrain, not the sampling).
+// point of each thin_cell_m square (the variogram and the neighbourhood then see the terrain,
+// not the sampling).
 // The variogram's kind is the one whose fit best predicts ground held out of the points in
 // blocks (BlockCrossValidationErrors): the kinds' fits to the variogram's bins differ most in
 // how they bridge gaps, which the bins do not show. On the simulator a spherical fit with a
@@ -104,7 +104,9 @@ struct KrigingPoints {
 };
 
 // Thins the points to one mean point per thin_cell_m square; the mean's variance is the
-// members' mean variance over their count.
+// members' mean variance, not that over their count: the points of one square were matched in
+// windows that overlap (a far window's footprint runs a metre or more along the ground), so
+// their errors are one error, which averaging does not shrink.
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m);
 
 // Fits the variogram to the (thinned) points and krige onto `grid` (its geometry is used;
