@@ -197,7 +197,10 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     throw std::invalid_argument("WidenStdByGroundRoom: one height variance per point or none");
   GroundRoomResult result;
   if (!o.enabled) return result;
-  // The ground's departure from the DEM's surface in each cell, less the points' own noise.
+  // The ground's departure from the DEM's surface in each cell, less the points' own noise. The
+  // surface is the cubic one through the cell centres: on curved ground the bilinear one cuts
+  // chords below the crests and above the hollows, and the points' departure from those chords
+  // says nothing about the centres' heights.
   std::vector<double> departure2(dem.values.size(), 0.0), noise2(dem.values.size(), 0.0);
   const std::vector<int> count = PointsPerCell(ground, dem);
   for (size_t i = 0; i < ground.positions.size(); ++i) {
@@ -205,7 +208,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     int r = 0, c = 0;
     if (!dem.CellOf(p.x(), p.y(), &r, &c)) continue;
     const size_t cell = static_cast<size_t>(r) * dem.cols + c;
-    const double surface = dem.Interpolate(p.x(), p.y());
+    const double surface = dem.InterpolateCubic(p.x(), p.y());
     if (!std::isfinite(surface)) continue;
     departure2[cell] += (p.z() - surface) * (p.z() - surface);
     if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];

@@ -55,6 +55,34 @@ double Raster::Interpolate(double x_m, double y_m) const {
   return (1 - ty) * ((1 - tx) * v00 + tx * v01) + ty * ((1 - tx) * v10 + tx * v11);
 }
 
+namespace {
+// Catmull-Rom weights of the four samples around t in [0, 1).
+void CubicWeights(double t, double w[4]) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2 * t2 - t);
+  w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+  w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+}
+}  // namespace
+
+double Raster::InterpolateCubic(double x_m, double y_m) const {
+  const double fc = (x_m - min_x_m) / cell_m - 0.5, fr = (max_y_m - y_m) / cell_m - 0.5;
+  const int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
+  if (c0 < 1 || r0 < 1 || c0 + 2 >= cols || r0 + 2 >= rows) return Interpolate(x_m, y_m);
+  double wx[4], wy[4];
+  CubicWeights(fc - c0, wx);
+  CubicWeights(fr - r0, wy);
+  double sum = 0.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const float v = at(r0 - 1 + i, c0 - 1 + j);
+      if (IsNoData(v)) return Interpolate(x_m, y_m);
+      sum += wy[i] * wx[j] * v;
+    }
+  return sum;
+}
+
 Raster Raster::ResampledOnto(const Raster& grid, double turn_deg) const {
   Raster out = grid;
   // A grid point at azimuth a is this raster's point at azimuth a - turn: turned clockwise by

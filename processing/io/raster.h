@@ -38,6 +38,9 @@ struct Raster {
   }
   // Bilinear interpolation between cell centres; NaN outside or next to nodata.
   double Interpolate(double x_m, double y_m) const;
+  // Cubic convolution (Catmull-Rom) over the 4 x 4 cells around (x, y), which follows a
+  // curved surface where bilinear cuts its chords; bilinear where one of them has no data.
+  double InterpolateCubic(double x_m, double y_m) const;
   // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).
   // turn_deg: the grid's azimuths (clockwise from +Y, about the origin) stand this far from
   // this raster's, as a station frame's do from another's when their pan zeros differ.

@@ -98,13 +98,14 @@ TEST(GroundRoom, GroundHiddenBehindABrowMayLieDownToWhereTheLowestLineLanded) {
   EXPECT_NEAR(other.std.at(10, 9), std::hypot(0.01, 0.5 * 0.4 * (9.5 - 6.875)), 0.06);
 }
 
-// Ground kinked at x = 5 m (the seen slopes within 5 m turn by 0.4), seen up to x = 7.25 m.
-// A seen cell with points all around its centre (x 6-7 m) shows its own turns: kriging's std
-// is left as it is. The centre of a cell seen only along its western edge (x 7-8 m) lies
+// Ground kinked at x = 4 m (the seen slopes within 5 m turn by 0.4), seen up to x = 7.25 m.
+// A seen cell with points all around its centre (x 6-7 m; the cubic surface through the cell
+// centres from x = 4.5 m on is the ground's line) shows its own turns: kriging's std is left
+// as it is. The centre of a cell seen only along its western edge (x 7-8 m) lies
 // beyond the data, 0.5 m from them on the quarter-cell grid the distances are measured on:
 // the turn's room 0.4 * 0.5 / 2 is added.
 TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheTurnsRoom) {
-  auto kinked = [](double x) { return 0.2 * std::abs(x - 5.0); };
+  auto kinked = [](double x) { return 0.2 * std::abs(x - 4.0); };
   KrigingPoints ground;
   Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), std = dem;
   for (int r = 0; r < dem.rows; ++r)

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
 
+#include <cmath>
+#include <utility>
+
 #include "tests/common/temp_dir.h"
 
 namespace ts {
@@ -47,6 +50,24 @@ TEST(Raster, ResampledOntoAGridTurnedByAPanZeroSeesTheGroundTurned) {
       // Turned by a: the source point is the grid point turned back by a (clockwise by -a).
       EXPECT_NEAR(slightly.at(row, col), 0.1 * (x * s + y * c), 1e-5);
     }
+}
+
+// Catmull-Rom reproduces a quadratic exactly, where bilinear interpolation cuts its chords
+// (by a quarter of the curvature over the cell squared at a cell's middle); with a cell of no
+// data among the sixteen it falls back to bilinear.
+TEST(Raster, CubicInterpolationFollowsACurvedSurface) {
+  auto bowl = [](double x, double y) { return 0.02 * x * x - 0.01 * x * y + 0.03 * y * y + 5; };
+  Raster r = Plane(bowl);
+  for (const auto& [x, y] : {std::pair{0.3, -0.2}, {4.9, 7.1}, {-12.25, 3.5}, {17.6, -18.4}}) {
+    EXPECT_NEAR(r.InterpolateCubic(x, y), bowl(x, y), 1e-4) << x << ", " << y;
+    EXPECT_GT(std::abs(r.Interpolate(x, y) - bowl(x, y)), 1e-3) << x << ", " << y;
+  }
+  int row = 0, col = 0;
+  ASSERT_TRUE(r.CellOf(4.9, 7.1, &row, &col));
+  // (4.9, 7.1) lies in the cell's north-west quarter: the sixteen run from two rows north and
+  // two columns west of it, the bilinear four from one.
+  r.at(row - 2, col - 2) = Raster::kNoData;
+  EXPECT_DOUBLE_EQ(r.InterpolateCubic(4.9, 7.1), r.Interpolate(4.9, 7.1));
 }
 
 TEST(Raster, ResampledOutsideTheSourceIsNoData) {
