@@ -4,7 +4,8 @@
 // assumes the terrain's variogram holds everywhere; two things it cannot see:
 //  - in a cell the cameras saw, ground that departs from the DEM's surface within the cell
 //    (a riser, a ditch's edge, a gully's lip): the ground points there show it. Their mean
-//    squared departure from the bilinear surface, less their own variance, is added.
+//    squared departure from the cubic surface through the cell centres (which follows curved
+//    ground where the bilinear one cuts chords), less their own variance, is added.
 //  - at a cell's centre d metres from the nearest ground point (or the mark): kriging's linear
 //    drift carries the slope of the ground around on to it; ground hidden behind a brow or a
 //    dike may turn away from that slope as much as the seen ground turns near it, by up to
