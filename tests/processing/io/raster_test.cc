@@ -53,8 +53,8 @@ TEST(Raster, ResampledOntoAGridTurnedByAPanZeroSeesTheGroundTurned) {
 }
 
 // Catmull-Rom reproduces a quadratic exactly, where bilinear interpolation cuts its chords
-// (by a quarter of the curvature over the cell squared at a cell's middle); with a cell of no
-// data among the sixteen it falls back to bilinear.
+// (midway between two centres by an eighth of the second derivative times the cell squared);
+// with a cell of no data among the sixteen it falls back to bilinear.
 TEST(Raster, CubicInterpolationFollowsACurvedSurface) {
   auto bowl = [](double x, double y) { return 0.02 * x * x - 0.01 * x * y + 0.03 * y * y + 5; };
   Raster r = Plane(bowl);
