@@ -1,5 +1,6 @@
 #include "processing/gravity/terrain_correction.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -53,6 +54,24 @@ double Column(double x0, double x1, double y0, double y1, double h, double ref, 
       far ? PrismDownwardAttractionFarField({x0, y0, lo}, {x1, y1, hi}, o.density_kg_m3)
           : PrismDownwardAttraction({x0, y0, lo}, {x1, y1, hi}, o.density_kg_m3);
   return h < ref ? g : -g;  // missing mass below: as it would pull; excess: opposite
+}
+
+// The standard deviation (mGal) of a column's correction when its height is known as h +- s
+// (normal). Near the reference height the correction grows with the square of the height
+// difference, so its slope at h (zero at the reference) says nothing of what ground metres
+// higher or lower would add; far above or below, the correction saturates. Three-point
+// Gauss-Hermite (nodes 0, +-sqrt 3): exact for a quadratic correction, the slope times s
+// for a linear one.
+double ColumnSpread(double x0, double x1, double y0, double y1, double h, double s, double ref,
+                    double sensor_z, const TerrainCorrectionOptions& o) {
+  const double step = std::sqrt(3.0) * s;
+  const double at = Column(x0, x1, y0, y1, h, ref, sensor_z, o);
+  // Differences from the centre's, against cancellation where s is small.
+  const double below = Column(x0, x1, y0, y1, h - step, ref, sensor_z, o) - at;
+  const double above = Column(x0, x1, y0, y1, h + step, ref, sensor_z, o) - at;
+  const double mean = (below + above) / 6.0;
+  const double variance = (below * below + above * above) / 6.0 - mean * mean;
+  return kMgalPerMs2 * std::sqrt(std::max(0.0, variance));
 }
 
 // A square of the refined zone: split into four while it is large against its distance from
@@ -143,20 +162,16 @@ TerrainCorrection ComputeTerrainCorrection(const Raster& dem, const Raster* dem_
       if (dem_std) {
         const float s = dem_std->at(r, c);
         if (!Raster::IsNoData(s) && s > 0) {
-          const double eps = 0.01;
-          const double derivative =
-              kMgalPerMs2 *
-              (Column(cx - half, cx + half, cy - half, cy + half, h + eps, ref, sensor_z, o) -
-               Column(cx - half, cx + half, cy - half, cy + half, h - eps, ref, sensor_z, o)) /
-              (2 * eps);
+          const double spread =
+              ColumnSpread(cx - half, cx + half, cy - half, cy + half, h, s, ref, sensor_z, o);
           if (kind == CellGround::kSeen) {
-            ring_variance[ring] += derivative * derivative * s * s;
-            in_sector.variance += derivative * derivative * s * s;
+            ring_variance[ring] += spread * spread;
+            in_sector.variance += spread * spread;
           } else {
-            ring_unseen[ring] += std::abs(derivative) * s;
-            in_sector.unseen += std::abs(derivative) * s;
+            ring_unseen[ring] += spread;
+            in_sector.unseen += spread;
           }
-          correlated += std::abs(derivative) * s;
+          correlated += spread;
         }
       }
     }

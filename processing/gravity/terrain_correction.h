@@ -14,10 +14,14 @@
 // bilinearly, and the surface there is tied to the station mark (a known ground point): the
 // DEM's misfit at the mark is removed, tapering to nothing at refine_radius_m.
 //
-// Uncertainty: exact linearisation: dTC/dh per cell (a central difference of its prism) times
-// the cell's kriging standard deviation, cells taken as independent (kriging errors of
-// neighbouring cells are correlated: the value is a lower bound; the fully correlated bound
-// sum |dTC/dh| sigma is reported beside it).
+// Uncertainty: per cell, the standard deviation of its prism's correction when its height is
+// normal about the DEM's with the cell's standard deviation (three-point Gauss-Hermite over
+// the exact prism), cells taken as independent (kriging errors of neighbouring cells are
+// correlated: the value is a lower bound; the fully correlated bound, the sum of the cells'
+// sigmas, is reported beside it). Not the slope dTC/dh times the std: a column's correction
+// grows with the square of its height difference from the mark, so ground at the mark's
+// height with a std of metres would get no sigma at all, yet it could add as much as ground
+// metres higher or lower does.
 // Cells whose ground nobody saw (given as such) are the exception: how hidden ground goes is one
 // unknown for all of them (the ground behind a dike is all lower, or all not), so their
 // contributions add linearly, and that sum adds to the independent sigma in quadrature.

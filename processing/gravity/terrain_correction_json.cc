@@ -34,7 +34,9 @@ nlohmann::json TerrainCorrectionToJson(const TerrainCorrection& tc,
       {"sigma_unseen_mgal", tc.sigma_unseen_mgal},
       {"sigma_fully_correlated_mgal", tc.sigma_correlated_mgal},
       {"sigma_method",
-       "linearisation: dTC/dh of each cell times its std; cells whose ground was seen "
+       "per cell, the std of its prism's correction over its height +- its std (Gauss-Hermite, "
+       "not linearised: near the mark's height the correction is quadratic); cells whose ground "
+       "was seen "
        "independent, cells nobody saw (bounded by the lines of sight and how the seen "
        "ground turns) as one unknown, added linearly; the fully correlated sum is an upper "
        "bound"},

@@ -119,20 +119,51 @@ TEST(TerrainCorrection, TiesTheSurfaceToTheStationMark) {
   EXPECT_NEAR(shifted.total_mgal, right, 0.01 * right);
 }
 
-// The linearised sigma: a uniform std s on every cell against the change of the correction
-// when each cell's own height moves (independent), and the correlated bound above it.
+// The sigma from the DEM's std, cells independent, and the correlated bound above it. Where
+// the std is small against the ground's height differences the correction is linear in each
+// cell's height over it: halving the std halves both.
 TEST(TerrainCorrection, SigmaFromTheDemStd) {
   const Raster dem = Dem(20, 1, [](double x, double y) { return 0.1 * x + 0.05 * y * y / 10; });
   Raster std_dev = dem;
-  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.2f);
+  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.02f);
   const TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
   EXPECT_GT(tc.sigma_mgal, 0.0);
   EXPECT_GT(tc.sigma_correlated_mgal, tc.sigma_mgal);
-  // Halving the std halves both.
-  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.1f);
+  std::fill(std_dev.values.begin(), std_dev.values.end(), 0.01f);
   const TerrainCorrection half = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
-  EXPECT_NEAR(half.sigma_mgal, 0.5 * tc.sigma_mgal, 1e-6 * tc.sigma_mgal);
+  EXPECT_NEAR(half.sigma_mgal, 0.5 * tc.sigma_mgal, 0.01 * tc.sigma_mgal);
+  EXPECT_NEAR(half.sigma_correlated_mgal, 0.5 * tc.sigma_correlated_mgal,
+              0.01 * tc.sigma_correlated_mgal);
   EXPECT_EQ(ComputeTerrainCorrection(dem, nullptr, {0, 0, 0}, {}).sigma_mgal, 0.0);
+}
+
+// A cell's sigma is the spread of its correction over its height's distribution, against that
+// spread integrated finely (the correction itself at 481 heights over +-6 std, weighted by the
+// normal density): ground at the mark's height with a std of 1.5 m (the slope there is zero:
+// a linearised sigma would be none), 3 m above it, and 9 m below it. Three points are exact
+// for a quadratic; the prism at the sensor's own height is nearly one.
+TEST(TerrainCorrection, ACellsSigmaIsTheSpreadOfItsCorrectionNotItsSlope) {
+  Raster dem = Raster::Make(-20.0, 20.0, 1.0, 40, 40);
+  std::fill(dem.values.begin(), dem.values.end(), Raster::kNoData);
+  const int r = 10, c = 28;  // one cell 8.5 m east, 9.5 m north of the mark
+  const double s = 1.5;
+  Raster std_dev = dem;
+  std_dev.at(r, c) = static_cast<float>(s);
+  for (const double height : {0.0, 3.0, -9.0}) {
+    dem.at(r, c) = static_cast<float>(height);
+    const TerrainCorrection tc = ComputeTerrainCorrection(dem, &std_dev, {0, 0, 0}, {});
+    double weight = 0.0, sum = 0.0, sum2 = 0.0;
+    for (int i = -240; i <= 240; ++i) {
+      const double u = i / 40.0, w = std::exp(-0.5 * u * u);
+      Raster drawn = dem;
+      drawn.at(r, c) = static_cast<float>(height + s * u);
+      const double v = ComputeTerrainCorrection(drawn, nullptr, {0, 0, 0}, {}).total_mgal;
+      weight += w, sum += w * v, sum2 += w * v * v;
+    }
+    const double sigma = std::sqrt(sum2 / weight - (sum / weight) * (sum / weight));
+    EXPECT_GT(tc.sigma_mgal, 0.0) << height;
+    EXPECT_NEAR(tc.sigma_mgal, sigma, 0.05 * sigma) << height;  // 2.9 % at the mark's height
+  }
 }
 
 TEST(TerrainCorrection, WarnsWhereARingIsThinlyCovered) {
