@@ -141,7 +141,7 @@ double ShadowStd(double value, const SightLineCeilings* sight, int r, int c) {
 
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
                                  const Raster& std_dev, const SightLineCeilings* sight,
-                                 const GroundRoomOptions& o) {
+                                 const Raster* horizon, const GroundRoomOptions& o) {
   GroundEstimate out{dem, std_dev, std::vector<CellGround>(dem.values.size(), CellGround::kSeen)};
   const std::vector<int> count = PointsPerCell(ground, dem);
   // The nearest cell with data, and how far it is.
@@ -175,6 +175,8 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
           dem.at(from.y, from.x) + slope.dot(Eigen::Vector2d(c - from.x, from.y - r)) * dem.cell_m;
       if (sight && !Raster::IsNoData(sight->per_cell.at(r, c)))
         z = std::min(z, double(sight->per_cell.at(r, c)));
+      else if (horizon && !Raster::IsNoData(horizon->at(r, c)))
+        z = std::min(z, double(horizon->at(r, c)));
       const float s0 = std_dev.at(from.y, from.x);
       const double room =
           std::max(0.5 * turn.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m,

@@ -53,15 +53,19 @@ struct GroundRoomResult {
 
 // Every cell of the square for the terrain correction, also those without data: each gets the
 // height of the nearest cell with data carried on along that cell's slope, capped by the lines
-// of sight over it (the per-cell ceilings of free_space.h, or none), and a std of the room the
-// seen ground's turn near that cell leaves over the distance, or below it down to the
-// landing of that line, as above.
+// of sight over it (the per-cell ceilings of free_space.h, or none) or, where none passes over
+// it, by the horizon the terrain sets there (horizon_limit.h's, or none): a ridge's flank
+// falls away behind its brow faster than the line of sight over it, or it would have been seen;
+// the brow's slope carried on stands metres above it. The std is the room the seen ground's
+// turn near that cell leaves over the distance, or below it down to the landing of the line
+// over it, as above.
 struct GroundEstimate {
   Raster height, std;
   std::vector<CellGround> kind;  // per cell
 };
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem, const Raster& std,
-                                 const SightLineCeilings* sight, const GroundRoomOptions& options);
+                                 const SightLineCeilings* sight, const Raster* horizon,
+                                 const GroundRoomOptions& options);
 
 // ground: the ground points kriged, in the DEM's frame; sight: the lines of sight over the
 // DEM's grid (or none). Widens `std` (the DEM's grid) where `dem` has data.

@@ -201,6 +201,23 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
         ++count.lowered;
       }
   });
+  result.horizon = *dem;
+  for (int row = 0; row < dem->rows; ++row)
+    for (int col = 0; col < dem->cols; ++col) {
+      float& h = result.horizon.at(row, col);
+      if (!Raster::IsNoData(dem->at(row, col))) {
+        h = Raster::kNoData;
+        continue;
+      }
+      const double dx = dem->CellCentreX(col) - viewpoint.x();
+      const double dy = dem->CellCentreY(row) - viewpoint.y(), run = std::hypot(dx, dy);
+      double slope = 0.0;
+      Setter setter = Setter::kOther;
+      const bool found =
+          horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
+      h = found && setter != Setter::kObject ? static_cast<float>(viewpoint.z() + run * slope)
+                                             : Raster::kNoData;
+    }
   double lowered = 0.0;
   for (const RowCounts& c : counts) {
     result.cells_lowered += c.lowered;

@@ -30,6 +30,10 @@
 //
 // The horizon comes from the points that were matched: where seen ground went unmatched it
 // lies too low, which is why only extrapolated cells are lowered.
+//
+// The cells the DEM is left without get their horizon too (HorizonLimitResult::horizon): the
+// terrain correction estimates every cell of the square, and ground nobody saw behind a brow
+// lies below it (ground_room.h's EstimateEveryCell, where no line of sight crosses the cell).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
@@ -81,6 +85,11 @@ struct HorizonLimitResult {
   double mean_lowering_m = 0.0;
   int cells_in_object_shadows = 0;  // kept beyond data_reach_m
   int cells_unexplained = 0;        // beyond data_reach_m and not in an object's shadow: nodata
+  // Over each cell the DEM is left without a value, the horizon the terrain sets there (the
+  // DEM's grid; nodata where no line of sight reaches that far, or an object set it): ground
+  // nobody saw lies below it, unless it was seen and not matched, which a line of sight over
+  // the cell to farther ground would show (free_space.h).
+  Raster horizon;
 };
 
 // points: the points seen from `viewpoint` (blunders left out), in the DEM's frame; ground: one

@@ -150,9 +150,10 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) 
     for (Eigen::Vector3d& p : seen_points) p = in.georeference->ToWorld(p);
     viewpoint = in.georeference->ToWorld(viewpoint);
   }
-  const HorizonLimitResult horizon =
+  HorizonLimitResult horizon =
       LimitToHorizon(seen_points, seen_ground, viewpoint, o.horizon, &w->kriged.dem, &w->kriged.std,
                      o.kriging.max_distance_m);
+  w->horizon = std::move(horizon.horizon);
   w->coverage_30m = DemCoverage(w->kriged.dem, w->station_xy, 30.0);
   w->coverage_square = DemCoverage(w->kriged.dem, w->station_xy, 0.0);
   if (w->coverage_30m < 0.95)
@@ -224,8 +225,9 @@ bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
 
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   // Every cell of the square: where the DEM has no value, the ground's best estimate and room.
-  const GroundEstimate every_cell = EstimateEveryCell(GroundAndMark(*w), w->kriged.dem,
-                                                      w->kriged.std, &w->ceilings, o.ground_room);
+  const GroundEstimate every_cell =
+      EstimateEveryCell(GroundAndMark(*w), w->kriged.dem, w->kriged.std, &w->ceilings,
+                        w->horizon.values.empty() ? nullptr : &w->horizon, o.ground_room);
   w->terrain_correction = ComputeTerrainCorrection(every_cell.height, &every_cell.std, w->mark_dem,
                                                    o.terrain_correction, &every_cell.kind);
   for (const std::string& warning : w->terrain_correction.warnings)

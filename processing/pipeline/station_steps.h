@@ -46,6 +46,7 @@ struct StationWork {
   Eigen::Vector3d mark_dem = Eigen::Vector3d::Zero();
   KrigingResult kriged;
   SightLineCeilings ceilings;  // the lowest lines of sight over the DEM (products/dem_ceiling.tif)
+  Raster horizon;  // over the cells the DEM leaves without a value (HorizonLimitResult::horizon)
   double coverage_30m = 0.0, coverage_square = 0.0;
   TerrainCorrection terrain_correction;
   nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams

@@ -67,13 +67,37 @@ TEST(GroundRoom, EveryCellGetsAnEstimateCappedByTheLinesOfSight) {
   sight.per_cell = sight.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
   sight.per_cell.at(3, 10) = 0.05f;  // below the crease's 0.1 there
   sight.landing_per_cell.at(3, 10) = 0.0f;
-  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &sight, {});
+  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &sight, nullptr, {});
   EXPECT_EQ(e.kind[static_cast<size_t>(3) * 20 + 10], CellGround::kEstimated);
   EXPECT_EQ(e.kind[static_cast<size_t>(10) * 20 + 10], CellGround::kUnseen);
   EXPECT_EQ(e.kind[static_cast<size_t>(2) * 20 + 2], CellGround::kSeen);
   EXPECT_FLOAT_EQ(e.height.at(3, 10), 0.05f);
   // A cell from its nearest neighbour with data, where the seen slopes turn by 0.4.
   EXPECT_NEAR(e.std.at(3, 10), std::hypot(0.01, 0.5 * 0.4 * 1.0), 0.02);
+}
+
+// Where no line of sight passes over a cell without a value, the horizon over it caps it (the
+// flank behind a ridge's brow falls away faster than the line over the brow); where one passes
+// over, that line does, and the horizon, which the cell's ground may rise above if it was seen
+// and not matched, does not.
+TEST(GroundRoom, ACellNoLineCrossesIsCappedByTheHorizonOverIt) {
+  Site site;
+  for (const int c : {10, 11}) {
+    site.dem.at(3, c) = Raster::kNoData;
+    site.std.at(3, c) = Raster::kNoData;
+  }
+  SightLineCeilings sight;
+  sight.per_cell = sight.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  sight.per_cell.at(3, 11) = 0.25f;  // the crease there stands at 0.3
+  Raster horizon = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  horizon.at(3, 10) = 0.02f;  // the crease there stands at 0.1
+  horizon.at(3, 11) = 0.02f;
+  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, &sight, &horizon, {});
+  EXPECT_FLOAT_EQ(e.height.at(3, 10), 0.02f);
+  EXPECT_FLOAT_EQ(e.height.at(3, 11), 0.25f);
+  const GroundEstimate without =
+      EstimateEveryCell(site.ground, site.dem, site.std, &sight, nullptr, {});
+  EXPECT_GT(without.height.at(3, 10), 0.05f);
 }
 
 // Behind a brow: the lowest line over the gap's centre cell grazed the brow and landed 1.2 m

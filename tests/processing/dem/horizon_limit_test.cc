@@ -214,6 +214,46 @@ TEST(HorizonLimit, DropsFarCellsThatNoObjectHides) {
             0);
 }
 
+// The cells left without a value beyond kriging's reach behind the brow get the line of sight
+// over it as their horizon, 1.5 - 0.05 d, for the terrain correction's estimate of them; cells
+// with a value get none. Behind a bush the bush sets the horizon, and the ground behind it may
+// rise above it: no horizon there.
+TEST(HorizonLimit, GivesTheCellsLeftWithoutAValueTheHorizonOverThem) {
+  HorizonScene s;
+  s.Ring(2.0, 10.0, true, Rise);
+  Raster dem = Extrapolated(), std = Extrapolated();
+  const HorizonLimitResult result =
+      LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem, &std, 5.5);
+  ASSERT_EQ(result.horizon.values.size(), dem.values.size());
+  int bounded = 0;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double x = dem.CellCentreX(c), y = dem.CellCentreY(r), d = std::hypot(x, y);
+      const bool in_view = std::abs(std::atan2(y, x)) < 29.0 * M_PI / 180.0;
+      if (!Raster::IsNoData(dem.at(r, c))) {
+        EXPECT_TRUE(Raster::IsNoData(result.horizon.at(r, c))) << "has a value, at " << d << " m";
+      } else if (in_view) {
+        EXPECT_NEAR(result.horizon.at(r, c), 1.5 - 0.05 * d, 1e-4) << "at " << d << " m";
+        ++bounded;
+      }
+    }
+  EXPECT_GT(bounded, 5);
+
+  const HorizonScene bush = BushBehindLevelGround(1.0);
+  Raster level, level_std;
+  LevelDem(0.0, &level, &level_std);
+  const HorizonLimitResult behind_bush =
+      LimitToHorizon(bush.points, bush.ground, kStationEye, {}, &level, &level_std, 5.5);
+  int without = 0;
+  for (size_t i = 0; i < level.values.size(); ++i)
+    if (Raster::IsNoData(level.values[i])) {
+      const float h = behind_bush.horizon.values[i];
+      EXPECT_TRUE(Raster::IsNoData(h)) << h;
+      ++without;
+    }
+  EXPECT_GT(without, 5);
+}
+
 TEST(HorizonLimit, RejectsBadInput) {
   Raster dem = Extrapolated();
   HorizonLimitOptions bad;
