@@ -126,6 +126,16 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
   const Horizons ground_horizons(
       ground_points, std::vector<Setter>(ground_points.size(), Setter::kGround), viewpoint);
   const int half = static_cast<int>(std::ceil(o.bin_half_width_deg * M_PI / 180.0 / kBinRad));
+  // The highest line of `from` over the cell centre (x, y), to a point nearer than the cell: its
+  // height there and what set it; false when there is none.
+  auto line_over = [&](const Horizons& from, double x, double y, double* height, Setter* setter) {
+    const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
+    double slope = 0.0;
+    if (!from.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, setter))
+      return false;
+    *height = viewpoint.z() + run * slope;
+    return true;
+  };
   const bool beyond_possible = std::isfinite(data_reach_m);
   const double shadow_reach = o.KrigingReach(data_reach_m);
   const int reach = static_cast<int>(
@@ -171,19 +181,15 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
             if (std::hypot(p.x() - x, p.y() - y) <= o.edge_m)
               directions.push_back(std::atan2(p.y() - y, p.x() - x));
           }
-        const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
-        double slope = 0.0;
+        double horizon = 0.0;
         Setter setter = Setter::kOther;
-        const bool has_horizon =
-            horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
-        const double horizon = viewpoint.z() + run * slope;
+        const bool has_horizon = line_over(horizons, x, y, &horizon, &setter);
         if (nearest > data_reach_m) {
-          double ground_slope = 0.0;
+          double ground_horizon = 0.0;
           Setter ground_setter = Setter::kGround;
           const bool below_terrain_horizon =
-              ground_horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half,
-                                      &ground_slope, &ground_setter) &&
-              z < viewpoint.z() + run * ground_slope - o.tolerance_m;
+              line_over(ground_horizons, x, y, &ground_horizon, &ground_setter) &&
+              z < ground_horizon - o.tolerance_m;
           if (nearest <= shadow_reach && has_horizon && setter == Setter::kObject && z < horizon &&
               !below_terrain_horizon) {
             ++count.in_object_shadows;
@@ -209,14 +215,11 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
         h = Raster::kNoData;
         continue;
       }
-      const double dx = dem->CellCentreX(col) - viewpoint.x();
-      const double dy = dem->CellCentreY(row) - viewpoint.y(), run = std::hypot(dx, dy);
-      double slope = 0.0;
+      double height = 0.0;
       Setter setter = Setter::kOther;
       const bool found =
-          horizons.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, &setter);
-      h = found && setter != Setter::kObject ? static_cast<float>(viewpoint.z() + run * slope)
-                                             : Raster::kNoData;
+          line_over(horizons, dem->CellCentreX(col), dem->CellCentreY(row), &height, &setter);
+      h = found && setter != Setter::kObject ? static_cast<float>(height) : Raster::kNoData;
     }
   double lowered = 0.0;
   for (const RowCounts& c : counts) {

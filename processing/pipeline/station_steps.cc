@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "processing/cloud/ground_filter.h"
 #include "processing/cloud/height_blunder_filter.h"
