@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <functional>
 #include <set>
 
 #include "processing/io/atomic_file.h"
@@ -19,7 +20,7 @@ namespace {
 
 constexpr int kMaxId = 1000000000;
 
-ControlField ParseControlField(YamlMap root) {
+ControlField ControlFieldOf(YamlMap root) {
   YamlMap field = root.Map("control_field");
   field.Int("version", 1, 1);
   ControlField f;
@@ -42,7 +43,7 @@ ControlField ParseControlField(YamlMap root) {
   return f;
 }
 
-std::vector<ImageMarks> ParseMarks(YamlMap root) {
+std::vector<ImageMarks> MarksOf(YamlMap root) {
   std::vector<ImageMarks> all;
   for (YamlMap& m : root.Maps("marks")) {
     ImageMarks image{m.String("image"), {}};
@@ -60,14 +61,34 @@ std::vector<ImageMarks> ParseMarks(YamlMap root) {
   return all;
 }
 
+// `read(root)` over the node `load()` gives; errors prefixed with `name` when there is one.
+template <class Read>
+auto ReadYaml(const std::function<YAML::Node()>& load, const std::string& name, Read read)
+    -> Result<decltype(read(std::declval<YamlMap>()))> {
+  try {
+    return read(YamlMap(load(), ""));
+  } catch (const ConfigError& e) {
+    return Error{name.empty() ? std::string(e.what()) : name + ": " + e.what()};
+  } catch (const YAML::Exception& e) {  // a syntax error in text
+    return Error{"line " + std::to_string(e.mark.line + 1) + ", column " +
+                 std::to_string(e.mark.column + 1) + ": " + e.msg};
+  }
+}
+
+YAML::Node LoadText(const std::string& text) {
+  YAML::Node root = YAML::Load(text);
+  if (!root || !root.IsMap()) throw ConfigError("must be a map");
+  return root;
+}
+
 }  // namespace
 
 Result<ControlField> LoadControlField(const std::string& file) {
-  try {
-    return ParseControlField(YamlMap(LoadYamlFile(file), ""));
-  } catch (const ConfigError& e) {
-    return Error{file + ": " + e.what()};
-  }
+  return ReadYaml([&] { return LoadYamlFile(file); }, file, ControlFieldOf);
+}
+
+Result<ControlField> ParseControlField(const std::string& text) {
+  return ReadYaml([&] { return LoadText(text); }, "", ControlFieldOf);
 }
 
 Status SaveControlField(const ControlField& field, const std::string& file) {
@@ -87,11 +108,11 @@ Status SaveControlField(const ControlField& field, const std::string& file) {
 }
 
 Result<std::vector<ImageMarks>> LoadTargetMarks(const std::string& file) {
-  try {
-    return ParseMarks(YamlMap(LoadYamlFile(file), ""));
-  } catch (const ConfigError& e) {
-    return Error{file + ": " + e.what()};
-  }
+  return ReadYaml([&] { return LoadYamlFile(file); }, file, MarksOf);
+}
+
+Result<std::vector<ImageMarks>> ParseTargetMarks(const std::string& text) {
+  return ReadYaml([&] { return LoadText(text); }, "", MarksOf);
 }
 
 Status SaveTargetMarks(const std::vector<ImageMarks>& marks, const std::string& file) {

@@ -47,6 +47,11 @@ Status SaveControlField(const ControlField& field, const std::string& file);
 
 Result<std::vector<ImageMarks>> LoadTargetMarks(const std::string& file);
 Status SaveTargetMarks(const std::vector<ImageMarks>& marks, const std::string& file);
+// The same from text (YAML, or JSON, which YAML reads): a request to the daemon. Errors name
+// the field only: "control_field.targets[3].id: 101 twice".
+Result<ControlField> ParseControlField(const std::string& text);
+Result<std::vector<ImageMarks>> ParseTargetMarks(const std::string& text);
+
 // The marks of an image: the entry whose name ends its path at a path separator (null: none).
 const ImageMarks* MarksOfImage(const std::vector<ImageMarks>& marks, const std::string& path);
 

@@ -30,20 +30,12 @@ std::string LastLine(const std::string& file) {
   return last;
 }
 
-}  // namespace
-
-Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& station_dirs,
-                                           const Calibration& start, bool refine_cameras,
-                                           const std::string& out_yaml,
-                                           const std::function<bool()>& should_stop) {
-  std::error_code ec;
-  fs::create_directories(fs::path(out_yaml).parent_path(), ec);
-  const std::string start_yaml = out_yaml + ".start.yaml", log = out_yaml + ".log";
-  if (Status s = SaveCalibrationYaml(start, start_yaml); !s) return Error{s.error()};
-  std::vector<std::string> args = {Topostation(), "calibrate", "rig"};
-  args.insert(args.end(), station_dirs.begin(), station_dirs.end());
-  args.insert(args.end(), {"--calibration", start_yaml, "--out", out_yaml, "--json"});
-  if (refine_cameras) args.push_back("--refine-cameras");
+// Runs `args`, its output to `log`; the JSON report on its last line, or the error with that
+// line. Killed when `should_stop` says so (asked every 100 ms).
+Result<nlohmann::json> RunWithJsonReport(const std::string& what,
+                                         const std::vector<std::string>& args,
+                                         const std::string& log,
+                                         const std::function<bool()>& should_stop) {
   const Result<pid_t> spawned = SpawnWithLog(args, log);
   if (!spawned) return Error{spawned.error()};
   const pid_t pid = *spawned;
@@ -52,16 +44,68 @@ Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& stati
     if (should_stop && should_stop()) {
       ::kill(pid, SIGKILL);
       ::waitpid(pid, &status, 0);
-      return Error{"calibrate rig: cancelled"};
+      return Error{what + ": cancelled"};
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const std::string last = LastLine(log);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return Error{"calibrate rig failed: " + (last.empty() ? "no output" : last)};
+    return Error{what + " failed: " + (last.empty() ? "no output" : last)};
   nlohmann::json report = nlohmann::json::parse(last, nullptr, false);
-  if (report.is_discarded()) return Error{"calibrate rig: no report in " + log};
+  if (report.is_discarded()) return Error{what + ": no report in " + log};
   return report;
+}
+
+}  // namespace
+
+Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& station_dirs,
+                                           const Calibration& start, bool refine_cameras,
+                                           const std::string& out_yaml,
+                                           const std::function<bool()>& should_stop) {
+  std::error_code ec;
+  fs::create_directories(fs::path(out_yaml).parent_path(), ec);
+  const std::string start_yaml = out_yaml + ".start.yaml";
+  if (Status s = SaveCalibrationYaml(start, start_yaml); !s) return Error{s.error()};
+  std::vector<std::string> args = {Topostation(), "calibrate", "rig"};
+  args.insert(args.end(), station_dirs.begin(), station_dirs.end());
+  args.insert(args.end(), {"--calibration", start_yaml, "--out", out_yaml, "--json"});
+  if (refine_cameras) args.push_back("--refine-cameras");
+  return RunWithJsonReport("calibrate rig", args, out_yaml + ".log", should_stop);
+}
+
+Result<nlohmann::json> CalibrateFieldInChild(const std::string& session_dir, int64_t job_id,
+                                             const ControlField& field,
+                                             const std::vector<ImageMarks>& marks,
+                                             const std::string& out_yaml,
+                                             const std::function<bool()>& should_stop) {
+  std::error_code ec;
+  fs::create_directories(fs::path(out_yaml).parent_path(), ec);
+  const std::string n = std::to_string(job_id);
+  const std::string field_yaml = session_dir + "/field-job-" + n + ".yaml";
+  const std::string marks_yaml = session_dir + "/marks-job-" + n + ".yaml";
+  if (Status s = SaveControlField(field, field_yaml); !s) return Error{s.error()};
+  if (Status s = SaveTargetMarks(marks, marks_yaml); !s) return Error{s.error()};
+  // The globs are the command's own (it expands them), not a shell's.
+  const std::string design = session_dir + "/design.yaml";
+  const std::vector<std::string> args = {Topostation(),
+                                         "calibrate",
+                                         "stereo",
+                                         "--left",
+                                         session_dir + "/raw/*_left.png",
+                                         "--right",
+                                         session_dir + "/raw/*_right.png",
+                                         "--control-field",
+                                         field_yaml,
+                                         "--marks",
+                                         marks_yaml,
+                                         "--start",
+                                         design,
+                                         "--stage-from",
+                                         design,
+                                         "--out",
+                                         out_yaml,
+                                         "--json"};
+  return RunWithJsonReport("calibrate stereo", args, out_yaml + ".log", should_stop);
 }
 
 }  // namespace ts::daemon

@@ -1,8 +1,11 @@
 #pragma once
-// A calibrate job: `topostation calibrate rig` (issue 21) on stations the daemon keeps, run as
-// a child process beside the daemon's own binary, so that an adjustment that fails or is
-// cancelled (killed) takes nothing of the daemon with it. The stage kinematics it estimates
-// are written to a calibration file of the job's own; the rig config is not changed.
+// The calibrate jobs, run as child processes beside the daemon's own binary, so that an
+// adjustment that fails or is cancelled (killed) takes nothing of the daemon with it:
+//   calibrate_rig    `topostation calibrate rig` (issue 21) on stations the daemon keeps: the
+//                    stage kinematics;
+//   calibrate_field  `topostation calibrate stereo --control-field` on a session a
+//                    capture_field job took: the cameras and the stereo pair.
+// Each writes a calibration file of the job's own; the rig config is not changed.
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -10,6 +13,7 @@
 
 #include "core/result.h"
 #include "processing/geometry/calibration.h"
+#include "processing/io/control_field_file.h"
 
 namespace ts::daemon {
 
@@ -20,5 +24,14 @@ Result<nlohmann::json> CalibrateRigInChild(const std::vector<std::string>& stati
                                            const Calibration& start, bool refine_cameras,
                                            const std::string& out_yaml,
                                            const std::function<bool()>& should_stop);
+
+// `topostation calibrate stereo` on the session's raw images with the field and the marks
+// (written into the session as field-job-N.yaml and marks-job-N.yaml, N = `job_id`, a record of
+// what was asked), starting from the session's design.yaml; its JSON report, as above.
+Result<nlohmann::json> CalibrateFieldInChild(const std::string& session_dir, int64_t job_id,
+                                             const ControlField& field,
+                                             const std::vector<ImageMarks>& marks,
+                                             const std::string& out_yaml,
+                                             const std::function<bool()>& should_stop);
 
 }  // namespace ts::daemon

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "processing/io/control_field_file.h"
 #include "station/daemon/daemon_config.h"
 
 namespace ts::daemon {
@@ -150,6 +151,37 @@ Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
   return r;
 }
 
+// A control field session's calibration: the session a capture_field job took, the field's
+// surveyed targets and the hand marks, each read as its file would be (the same checks, the
+// same names of fields).
+Result<JobRequest> ParseCalibrateField(const nlohmann::json& body) {
+  if (Status s = CheckKeys(body, "", {"kind", "session", "control_field", "marks", "notes"}); !s)
+    return Error{s.error()};
+  if (Status s = CheckText(body, "notes"); !s) return Error{s.error()};
+  if (!body.contains("session") || !body["session"].is_string() ||
+      !IsStationId(body["session"].get<std::string>()))
+    return Error{"session: must be the id of a capture_field job's session"};
+  if (!body.contains("control_field")) return Error{"control_field: missing"};
+  if (!body.contains("marks")) return Error{"marks: missing"};
+  const Result<ControlField> field =
+      ParseControlField(nlohmann::json{{"control_field", body["control_field"]}}.dump());
+  if (!field) return Error{field.error()};
+  const Result<std::vector<ImageMarks>> marks =
+      ParseTargetMarks(nlohmann::json{{"marks", body["marks"]}}.dump());
+  if (!marks) return Error{marks.error()};
+  for (size_t i = 0; i < marks->size(); ++i)
+    for (size_t k = 0; k < (*marks)[i].marks.size(); ++k)
+      if (field->IndexOf((*marks)[i].marks[k].id) < 0)
+        return Error{"marks[" + std::to_string(i) + "].targets[" + std::to_string(k) + "].id: " +
+                     std::to_string((*marks)[i].marks[k].id) + " is not a target of control_field"};
+  JobRequest r;
+  r.kind = JobKind::kCalibrateField;
+  r.station = body["session"].get<std::string>();
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
 }  // namespace
 
 Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
@@ -157,6 +189,7 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   if (body.value("kind", nlohmann::json()) == "calibrate_rig") return ParseCalibrateRig(body);
   if (body.value("kind", nlohmann::json()) == "capture_field") return ParseCaptureField(body);
   if (body.value("kind", nlohmann::json()) == "retake") return ParseRetake(body);
+  if (body.value("kind", nlohmann::json()) == "calibrate_field") return ParseCalibrateField(body);
   if (Status s = CheckKeys(body, "",
                            {"kind", "station", "line", "instrument_height_m", "operator", "notes",
                             "gnss", "gcps", "single_row", "required_sigma_mgal"});
@@ -165,7 +198,9 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   JobRequest r;
   if (!body.contains("kind") || !body["kind"].is_string() ||
       !JobKindFromName(body["kind"].get<std::string>()))
-    return Error{"kind: must be survey, capture, process, retake, calibrate_rig or capture_field"};
+    return Error{
+        "kind: must be survey, capture, process, retake, calibrate_rig, capture_field or "
+        "calibrate_field"};
   r.kind = *JobKindFromName(body["kind"].get<std::string>());
   if (Status s = CheckStation(body); !s) return Error{s.error()};
   if (Status s = CheckNumber(body, "", "required_sigma_mgal", 0.0001, 10, false); !s)

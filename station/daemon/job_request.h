@@ -14,6 +14,13 @@
 //   {"kind": "capture_field", "station": "field-2026-11", "field_pan_deg": 40,
 //    "field_tilt_deg": 5, "field_pans": 9, "field_tilts": 4}   (a calibration session, named
 //    by its station id; the grid as `capture --calibration field` takes it)
+//   {"kind": "calibrate_field", "session": "field-2026-11",
+//    "control_field": {"version": 1, "targets": [{"id": 101, "x": .., "y": .., "z": .., "sigma_m":
+//    0.001,
+//                                   "diameter_m": 0.06}, ...]},
+//    "marks": [{"image": "raw/p0001_left.png", "targets": [{"id": 101, "x": 812.4, "y": 233.9}]}]}
+//    (`calibrate stereo --control-field --marks` on that session: FIELD.yaml's and MARKS.yaml's
+//    content as JSON)
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -25,7 +32,7 @@ namespace ts::daemon {
 
 struct JobRequest {
   JobKind kind = JobKind::kSurvey;
-  std::string station;                // calibrate_rig: the first of `stations`
+  std::string station;  // calibrate_rig: the first of `stations`; calibrate_field: the session
   std::vector<std::string> stations;  // calibrate_rig
   nlohmann::json fields;              // the request less kind: kept as the job's parameters
   double instrument_height_m = 0.0;

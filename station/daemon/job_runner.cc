@@ -62,11 +62,13 @@ std::vector<StagePose> RetakePoses(const Job& job) {
 // follows once a person has marked four targets.
 Status FinishFieldSession(const Calibration& rig, const std::string& dir, nlohmann::json* summary) {
   (*summary)["session"] = dir;
-  (*summary)["next"] =
-      "mark 4 or more targets (MARKS.yaml), then topostation calibrate stereo --left '" + dir +
-      "/raw/*_left.png' --right '" + dir +
-      "/raw/*_right.png' --control-field FIELD.yaml --marks MARKS.yaml --start " + dir +
-      "/design.yaml --out CAL.yaml";
+  (*summary)["next"] = "mark 4 or more targets, then a calibrate_field job with session '" +
+                       fs::path(dir).filename().string() +
+                       "', the control field and the marks; or, with FIELD.yaml and MARKS.yaml, "
+                       "topostation calibrate stereo --left '" +
+                       dir + "/raw/*_left.png' --right '" + dir +
+                       "/raw/*_right.png' --control-field FIELD.yaml --marks MARKS.yaml --start " +
+                       dir + "/design.yaml --stage-from " + dir + "/design.yaml --out CAL.yaml";
   return SaveCalibrationYaml(rig, dir + "/design.yaml");
 }
 
@@ -115,7 +117,8 @@ std::string JobRunner::StationDir(const std::string& station) const {
 }
 
 std::string JobRunner::DirOf(const Job& job) const {
-  if (job.kind == JobKind::kCaptureField)  // a calibration session, not a station
+  // A calibration session, not a station: what capture_field takes and calibrate_field reads.
+  if (job.kind == JobKind::kCaptureField || job.kind == JobKind::kCalibrateField)
     return (fs::path(config_.state_dir) / "calibration-sessions" / job.station).string();
   return StationDir(job.station);
 }
@@ -154,10 +157,16 @@ std::variant<Job, JobError> JobRunner::Submit(const JobRequest& request,
   job.idempotency_key = idempotency_key;
   const bool station_exists = fs::exists(fs::path(DirOf(job)) / kManifestFileName);
   if (!UsesRig(request.kind)) {
-    for (const std::string& s :
-         request.stations.empty() ? std::vector{request.station} : request.stations)
-      if (!fs::exists(fs::path(StationDir(s)) / kManifestFileName))
-        return JobError{404, "no station '" + s + "'"};
+    if (request.kind == JobKind::kCalibrateField) {
+      if (!station_exists)
+        return JobError{
+            404, "no calibration session '" + request.station + "': a capture_field job takes one"};
+    } else {
+      for (const std::string& s :
+           request.stations.empty() ? std::vector{request.station} : request.stations)
+        if (!fs::exists(fs::path(StationDir(s)) / kManifestFileName))
+          return JobError{404, "no station '" + s + "'"};
+    }
     Result<Job> created = store_->Create(job, existed);
     if (!created) return JobError{500, created.error()};
     std::lock_guard lock(mutex_);
@@ -426,6 +435,27 @@ void JobRunner::RunCalibrateJob(const Job& job) {
   const bool refine_cameras = job.parameters.value("refine_cameras", false);
   Result<nlohmann::json> report = CalibrateRigInChild(dirs, rig->calibration, refine_cameras, out,
                                                       [this] { return cancel_processing_.load(); });
+  FinishCalibrateJob(job, out, std::move(report));
+}
+
+void JobRunner::RunCalibrateFieldJob(const Job& job) {
+  Record(job.id, JobState::kProcessing);
+  // Read as the request was checked (ParseCalibrateField): a job recovered after a restart too.
+  const Result<ControlField> field =
+      ParseControlField(nlohmann::json{{"control_field", job.parameters["control_field"]}}.dump());
+  const Result<std::vector<ImageMarks>> marks =
+      ParseTargetMarks(nlohmann::json{{"marks", job.parameters["marks"]}}.dump());
+  if (!field || !marks)
+    return Record(job.id, JobState::kFailed, nullptr, !field ? field.error() : marks.error());
+  const std::string out =
+      config_.state_dir + "/calibrations/field-job-" + std::to_string(job.id) + ".yaml";
+  Result<nlohmann::json> report = CalibrateFieldInChild(
+      DirOf(job), job.id, *field, *marks, out, [this] { return cancel_processing_.load(); });
+  FinishCalibrateJob(job, out, std::move(report));
+}
+
+void JobRunner::FinishCalibrateJob(const Job& job, const std::string& out,
+                                   Result<nlohmann::json> report) {
   if (report) {
     (*report)["calibration_file"] = out;
     Record(job.id, JobState::kDone, *report);
@@ -437,6 +467,7 @@ void JobRunner::RunCalibrateJob(const Job& job) {
 
 void JobRunner::RunProcessJob(const Job& job) {
   if (job.kind == JobKind::kCalibrateRig) return RunCalibrateJob(job);
+  if (job.kind == JobKind::kCalibrateField) return RunCalibrateFieldJob(job);
   Record(job.id, JobState::kProcessing);
   ProcessControl control;
   control.should_stop = [this] { return cancel_processing_.load(); };

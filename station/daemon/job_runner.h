@@ -63,6 +63,9 @@ class JobRunner {
   void ProcessLoop();
   void RunProcessJob(const Job& job);
   void RunCalibrateJob(const Job& job);
+  void RunCalibrateFieldJob(const Job& job);
+  // A calibrate job's end: its report with the file it wrote, or why there is none.
+  void FinishCalibrateJob(const Job& job, const std::string& out, Result<nlohmann::json> report);
   void SetState(Running* run, JobState state, const nlohmann::json& summary = nullptr,
                 const std::string& error = "");
   // In the history first, then as an event.

@@ -8,9 +8,9 @@
 namespace ts::daemon {
 namespace {
 
-constexpr std::array<const char*, 6> kKindNames = {"survey",        "capture",       "process",
-                                                   "calibrate_rig", "capture_field", "retake"};
-static_assert(kKindNames.size() == static_cast<size_t>(JobKind::kRetake) + 1,
+constexpr std::array<const char*, 7> kKindNames = {
+    "survey", "capture", "process", "calibrate_rig", "capture_field", "retake", "calibrate_field"};
+static_assert(kKindNames.size() == static_cast<size_t>(JobKind::kCalibrateField) + 1,
               "a name for every JobKind");
 constexpr std::array<const char*, 7> kStateNames = {"queued", "capturing",   "processing", "done",
                                                     "failed", "interrupted", "cancelled"};

@@ -18,7 +18,15 @@ namespace ts::daemon {
 // calibrate_rig: the stage kinematics adjusted on stations' own seams (calibrate_job.h);
 // capture_field: a control field's grid of stage poses, the views `calibrate stereo` takes.
 // retake: poses of a captured station taken again (acquisition/retake.h), then processed.
-enum class JobKind { kSurvey, kCapture, kProcess, kCalibrateRig, kCaptureField, kRetake };
+enum class JobKind {
+  kSurvey,
+  kCapture,
+  kProcess,
+  kCalibrateRig,
+  kCaptureField,
+  kRetake,
+  kCalibrateField
+};
 enum class JobState { kQueued, kCapturing, kProcessing, kDone, kFailed, kInterrupted, kCancelled };
 
 const char* JobKindName(JobKind kind);

@@ -6,12 +6,14 @@
 #include <sys/un.h>
 
 #include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <thread>
 
 #include "processing/io/calibration_yaml.h"
+#include "processing/io/control_field_file.h"
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
 #include "sim/sim_server.h"
@@ -498,17 +500,47 @@ TEST_F(DaemonTest, HeadlessWhenReadyStartsASurveyOfItsOwnAndSigtermInterruptsIt)
   EXPECT_TRUE(ValidateStation(d->stations_dir() + "/auto-1", {}).ok());
 }
 
-// A control field's calibration views through the API: the grid of stage poses as a session
-// that validates, with the cameras it starts from beside it.
-TEST_F(DaemonTest, ACalibrationSessionAtAControlFieldIsCapturedAsAJob) {
-  Serve();
-  auto d = StartDaemon();
+// The control field's JSON as a client sends it: FIELD.yaml's and MARKS.yaml's content.
+nlohmann::json FieldJson(const ControlField& field) {
+  nlohmann::json targets = nlohmann::json::array();
+  for (const FieldTarget& t : field.targets)
+    targets.push_back({{"id", t.id},
+                       {"x", t.position_m.x()},
+                       {"y", t.position_m.y()},
+                       {"z", t.position_m.z()},
+                       {"sigma_m", t.sigma_m},
+                       {"diameter_m", t.diameter_m}});
+  return {{"version", 1}, {"targets", targets}};
+}
+
+nlohmann::json MarksJson(const std::vector<ImageMarks>& marks) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const ImageMarks& image : marks) {
+    nlohmann::json targets = nlohmann::json::array();
+    for (const TargetMark& m : image.marks)
+      targets.push_back({{"id", m.id}, {"x", m.pixel.x()}, {"y", m.pixel.y()}});
+    all.push_back({{"image", image.image}, {"targets", targets}});
+  }
+  return all;
+}
+
+// A control field through the API, as a field team with only the page's laptop works: the
+// grid of stage poses captured as a session that validates, with the design cameras it starts
+// from beside it; then the field and the hand marks sent as a calibrate_field job, which
+// calibrates the cameras and the stereo pair near the truth and keeps the rig's stage.
+TEST_F(DaemonTest, AControlFieldSessionIsCapturedAndCalibratedAsJobs) {
+  sim::ServedCalibration targets;
+  targets.kind = "field";
+  targets.field.poses.pans = 5;  // fewer poses than the default grid: a quicker test
+  targets.field.poses.tilts = 3;
+  Serve(targets);
+  const Calibration design = station_->rig.nominal;
+  auto d = StartDaemon("", &design);
   ASSERT_TRUE(WaitReady(*d));
   auto r = d->Post("/jobs", {{"kind", "capture_field"},
                              {"station", "field-1"},
-                             {"field_pan_deg", 20.0},
-                             {"field_pans", 3},
-                             {"field_tilts", 2}});
+                             {"field_pans", targets.field.poses.pans},
+                             {"field_tilts", targets.field.poses.tilts}});
   ASSERT_EQ(r->status, 201) << r->body;
   const nlohmann::json job = d->WaitForJob(nlohmann::json::parse(r->body)["id"], Finished, 120s);
   ASSERT_EQ(job["state"], "done") << job.dump() << d->log();
@@ -517,16 +549,49 @@ TEST_F(DaemonTest, ACalibrationSessionAtAControlFieldIsCapturedAsAJob) {
   EXPECT_EQ(session, dir_ / "state/calibration-sessions/field-1");
   const Result<StationManifest> m = ValidateStation(session, {.require_complete = true});
   ASSERT_TRUE(m.ok()) << m.error();
-  FieldPoseGrid grid;
-  grid.centre_pan_deg = 20.0;
-  grid.pans = 3;
-  grid.tilts = 2;
-  const std::vector<StagePose> plan = MakeFieldPoseGrid(grid);
+  const std::vector<StagePose> plan = MakeFieldPoseGrid(targets.field.poses);
   ASSERT_EQ(m->plan.size(), plan.size());
-  for (size_t k = 0; k < plan.size(); ++k) EXPECT_EQ(m->plan[k].pan_deg, plan[k].pan_deg);
+  for (size_t k = 0; k < plan.size(); ++k) EXPECT_EQ(m->plan[k].tilt_deg, plan[k].tilt_deg);
   EXPECT_TRUE(LoadCalibrationYaml(session + "/design.yaml").ok());
-  EXPECT_NE(job["summary"]["next"].get<std::string>().find("calibrate stereo"), std::string::npos);
+  EXPECT_NE(job["summary"]["next"].get<std::string>().find("calibrate_field"), std::string::npos);
   EXPECT_TRUE(d->GetJson("/stations").empty());  // a session is not a station
+
+  const std::string truth = dir_ / "truth";
+  std::filesystem::create_directories(truth);
+  ASSERT_TRUE(
+      sim::WriteServedCalibrationTruth(station_->rig, station_->scene.seed, targets, truth).ok());
+  const nlohmann::json calibrate = {
+      {"kind", "calibrate_field"},
+      {"session", "field-1"},
+      {"control_field", FieldJson(*LoadControlField(truth + "/field.yaml"))},
+      {"marks", MarksJson(*LoadTargetMarks(truth + "/marks.yaml"))}};
+  nlohmann::json elsewhere = calibrate;
+  elsewhere["session"] = "field-2";
+  EXPECT_EQ(d->Post("/jobs", elsewhere)->status, 404);
+  nlohmann::json unknown_target = calibrate;
+  unknown_target["marks"][0]["targets"][0]["id"] = 99999;
+  r = d->Post("/jobs", unknown_target);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_NE(r->body.find("marks[0].targets[0].id: 99999"), std::string::npos) << r->body;
+
+  r = d->Post("/jobs", calibrate);
+  ASSERT_EQ(r->status, 201) << r->body;
+  const nlohmann::json done = d->WaitForJob(nlohmann::json::parse(r->body)["id"], Finished, 120s);
+  ASSERT_EQ(done["state"], "done") << done.dump() << d->log();
+  EXPECT_GT(done["summary"]["control_field"].value("targets_found", 0), 60) << done.dump();
+  const Result<Calibration> cal = LoadCalibrationYaml(done["summary"]["calibration_file"]);
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  const StereoRig& t = station_->rig.truth.rig;
+  const double design_off =
+      std::abs(design.rig.left.principal_distance_px - t.left.principal_distance_px);
+  EXPECT_GT(design_off, 0.0005 * t.left.principal_distance_px);  // the design is off by more
+  EXPECT_LT(std::abs(cal->rig.left.principal_distance_px - t.left.principal_distance_px),
+            0.0005 * t.left.principal_distance_px);
+  EXPECT_LT(std::abs(cal->rig.right.principal_distance_px - t.right.principal_distance_px),
+            0.0005 * t.right.principal_distance_px);
+  EXPECT_LT(std::abs(cal->rig.baseline_m - t.baseline_m), 0.0002);
+  EXPECT_EQ(cal->stage.tilt_axis_offset_m, design.stage.tilt_axis_offset_m);  // the rig's stage
+  EXPECT_TRUE(std::filesystem::exists(session + "/marks-job-" + done["id"].dump() + ".yaml"));
 }
 
 // systemd's side (Type=notify): READY once listening, STATUS saying what it does, the

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "processing/io/calibration_yaml.h"
+#include "sim/served_calibration.h"
 #include "sim/sim_server.h"
 #include "tests/common/daemon_process.h"
 #include "tests/common/temp_dir.h"
@@ -30,10 +31,12 @@ class SimDaemonTest : public ::testing::Test {
     station_ = *sim::BuildSimStation(options);
   }
 
-  void Serve() {
+  // The scene, or calibration targets in its place.
+  void Serve(const sim::ServedCalibration& targets = {}) {
     sim::SimServeOptions o;
     o.stage_port = kStagePort;
     o.stage_pty = false;
+    o.calibration = targets;
     // The jobs' flow is tested here, not the DEM's accuracy: a quarter of the render time.
     o.render.supersampling = 1;
     auto server = sim::SimServer::Start(station_, o);
@@ -41,10 +44,11 @@ class SimDaemonTest : public ::testing::Test {
     server_ = std::move(*server);
   }
 
-  // The simulated rig with its true calibration (matching, not calibration, is not tested here).
-  std::string WriteRig() {
+  // The simulated rig with its true calibration (matching, not calibration, is tested here),
+  // or the one given.
+  std::string WriteRig(const Calibration* calibration = nullptr) {
     const std::string cal = dir_ / "calibration.yaml", rig = dir_ / "rig.yaml";
-    EXPECT_TRUE(SaveCalibrationYaml(station_->rig.truth, cal).ok());
+    EXPECT_TRUE(SaveCalibrationYaml(calibration ? *calibration : station_->rig.truth, cal).ok());
     std::ofstream(rig) << "schema_version: 1\nname: simulated-rig\ndevices:\n"
                        << "  left_camera: {id: TS-SIM-L}\n  right_camera: {id: TS-SIM-R}\n"
                        << "  stage: {transport: tcp, host: 127.0.0.1, port: " << kStagePort
@@ -52,9 +56,10 @@ class SimDaemonTest : public ::testing::Test {
     return rig;
   }
 
-  std::unique_ptr<DaemonProcess> StartDaemon(const std::string& extra_yaml = "") {
-    auto d =
-        std::make_unique<DaemonProcess>(dir_.path().string(), kApiPort, WriteRig(), extra_yaml);
+  std::unique_ptr<DaemonProcess> StartDaemon(const std::string& extra_yaml = "",
+                                             const Calibration* calibration = nullptr) {
+    auto d = std::make_unique<DaemonProcess>(dir_.path().string(), kApiPort, WriteRig(calibration),
+                                             extra_yaml);
     EXPECT_TRUE(d->Start()) << d->log();
     return d;
   }

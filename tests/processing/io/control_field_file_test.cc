@@ -68,5 +68,32 @@ TEST(TargetMarksFile, RoundTripsAndMatchesImagesByTheEndOfTheirPath) {
   EXPECT_EQ(MarksOfImage(*read, "/data/right/102.png"), nullptr);
 }
 
+// A request's JSON reads as the files do (YAML reads JSON), errors naming the field alone.
+TEST(ControlFieldText, JsonReadsAsTheFileDoesAndErrorsNameTheField) {
+  std::string targets;
+  for (int i = 0; i < 6; ++i)
+    targets += std::string(i ? "," : "") + R"({"id": )" + std::to_string(101 + i) +
+               R"(, "x": 5.5, "y": 1, "z": 2, "sigma_m": 0.001, "diameter_m": 0.06})";
+  const Result<ControlField> field =
+      ParseControlField(R"({"control_field": {"version": 1, "targets": [)" + targets + "]}}");
+  ASSERT_TRUE(field.ok()) << field.error();
+  ASSERT_EQ(field->targets.size(), 6u);
+  EXPECT_EQ(field->targets[5].id, 106);
+  EXPECT_EQ(field->targets[0].position_m.x(), 5.5);
+
+  const Result<ControlField> twice =
+      ParseControlField(R"({"control_field": {"version": 1, "targets": [)" + targets + "," +
+                        R"({"id": 103, "x": 0, "y": 0, "z": 0, "sigma_m": 0, "diameter_m": 1}]}})");
+  ASSERT_FALSE(twice.ok());
+  EXPECT_EQ(twice.error().rfind("control_field.targets[6].id: 103 twice", 0), 0u) << twice.error();
+
+  const Result<std::vector<ImageMarks>> marks =
+      ParseTargetMarks(R"({"marks": [{"image": "left/01.png", "targets": [{"id": 1, "x": 3}]}]})");
+  ASSERT_FALSE(marks.ok());
+  EXPECT_EQ(marks.error().rfind("marks[0].targets[0].y: missing", 0), 0u) << marks.error();
+  EXPECT_FALSE(ParseTargetMarks("{\"marks\": [").ok());  // cut short: a syntax error, no throw
+  EXPECT_FALSE(ParseTargetMarks("[1, 2]").ok());
+}
+
 }  // namespace
 }  // namespace ts

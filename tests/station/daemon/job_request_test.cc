@@ -94,6 +94,61 @@ TEST(JobRequest, AFieldSessionTakesItsGridWithinTheStagesReach) {
   }
 }
 
+// A field session's calibration: the field and the marks checked as their files are, a mark of
+// a target the field lacks refused, each refusal naming the field.
+TEST(JobRequest, AFieldCalibrationTakesTheFieldAndTheMarksCheckedAsTheirFilesAre) {
+  nlohmann::json targets = nlohmann::json::array();
+  for (int id = 101; id <= 106; ++id)
+    targets.push_back({{"id", id},
+                       {"x", id * 0.5},
+                       {"y", 1.0},
+                       {"z", 2.0},
+                       {"sigma_m", 0.001},
+                       {"diameter_m", 0.06}});
+  const nlohmann::json marks = {
+      {{"image", "raw/p0000_left.png"}, {"targets", {{{"id", 101}, {"x", 80.5}, {"y", 30.0}}}}}};
+  const nlohmann::json good = {{"kind", "calibrate_field"},
+                               {"session", "field-1"},
+                               {"control_field", {{"version", 1}, {"targets", targets}}},
+                               {"marks", marks}};
+  const Result<JobRequest> r = ParseJobRequest(good);
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->kind, JobKind::kCalibrateField);
+  EXPECT_FALSE(UsesRig(r->kind));
+  EXPECT_EQ(r->station, "field-1");
+  EXPECT_EQ(r->fields["marks"], marks);
+  auto refusal = [&](const std::string& key, const nlohmann::json& value) {
+    nlohmann::json body = good;
+    if (value.is_null())
+      body.erase(key);
+    else
+      body[key] = value;
+    const Result<JobRequest> refused = ParseJobRequest(body);
+    return refused.ok() ? std::string("accepted") : refused.error();
+  };
+  EXPECT_EQ(refusal("session", "../x").rfind("session: ", 0), 0u);
+  EXPECT_EQ(refusal("marks", nullptr), "marks: missing");
+  EXPECT_EQ(refusal("control_field", nullptr), "control_field: missing");
+  nlohmann::json twice = targets;
+  twice[5]["id"] = 101;
+  EXPECT_EQ(refusal("control_field", {{"version", 1}, {"targets", twice}})
+                .rfind("control_field.targets[5].id: 101 twice", 0),
+            0u);
+  nlohmann::json five = targets;
+  five.erase(5);
+  EXPECT_EQ(refusal("control_field", {{"version", 1}, {"targets", five}})
+                .rfind("control_field.targets: ", 0),
+            0u);
+  EXPECT_EQ(refusal("marks",
+                    {{{"image", "a.png"}, {"targets", {{{"id", 101}, {"x", "left"}, {"y", 1}}}}}})
+                .rfind("marks[0].targets[0].x: ", 0),
+            0u);
+  EXPECT_EQ(
+      refusal("marks", {{{"image", "a.png"}, {"targets", {{{"id", 7}, {"x", 1}, {"y", 1}}}}}}),
+      "marks[0].targets[0].id: 7 is not a target of control_field");
+  EXPECT_EQ(refusal("extra", 1), "extra: unknown field");
+}
+
 TEST(JobRequest, ARetakeTakesThePosesAVerdictNamedWithinTheStagesReach) {
   const Result<JobRequest> r =
       ParseJobRequest({{"kind", "retake"},
