@@ -104,6 +104,7 @@ Status CommitPair(const std::string& dir, int index, const StagePose& commanded,
   p.index = index;
   p.commanded = commanded;
   p.readback = frames.readback;
+  p.inclinometer_deg = frames.inclinometer_deg;
   p.exposure_us = exposure_us;
   p.gain_db = gain_db;
   p.captured_utc = UtcNowIso8601();
@@ -201,6 +202,13 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
     Result<PairFrames> frames = seq.TakePair(index, summary.total_pairs);
     if (!frames) return Error{frames.error()};
     frames->readback = *at;
+    // The inclinometer turns with the pan: read at every pose, it tells the levelling from its
+    // own index error (inclinometer.h). A failed read costs only that reading.
+    if (const Result<StageInfo> tilt = stage.Identify(); tilt)
+      frames->inclinometer_deg =
+          Eigen::Vector2d(tilt->inclinometer_x_deg, tilt->inclinometer_y_deg);
+    else
+      Log().info("{}: inclinometer not read: {}", PairName(index), tilt.error());
     // Terrain going on above this view: the pose above it is taken next. The plan grows in
     // memory and is saved with this pair's commit, so a resume knows it.
     const auto look_up_started = Clock::now();

@@ -65,7 +65,7 @@ Result<PairFrames> PairSequencer::TakePair(int index, int total) {
         JudgeExposure(frames->first.image, frames->second.image, exposure_us, o_.exposure);
     timeline.verify_s += Seconds(Clock::now() - judged);
     if (v.ok || retake >= o_.max_retakes)
-      return PairFrames{std::move(frames->first), std::move(frames->second), {}};
+      return PairFrames{std::move(frames->first), std::move(frames->second), {}, {}};
     ++summary_->retakes;
     Emit({CaptureEventKind::kRetake, index, total,
           v.reason + ": exposure " + std::to_string(exposure_us) + " -> " +

@@ -4,6 +4,7 @@
 // again (a camera whose control channel was lost reopened), and the pair retaken with a
 // corrected exposure, both cameras locked together, until it passes the exposure check.
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -17,6 +18,7 @@ std::string PairName(int index);
 struct PairFrames {
   Frame left, right;
   StagePose readback;
+  std::optional<Eigen::Vector2d> inclinometer_deg;  // read with the stage at rest there
 };
 
 class PairSequencer {

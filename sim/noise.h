@@ -2,6 +2,7 @@
 // Procedural noise for the simulated world: hashed value noise (no period at any scale a
 // scene uses, so there is no tile a matcher could lock onto) and band-limited fractal sums.
 // Pure functions of (seed, position): the same world point looks the same from every camera.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,13 @@ inline uint64_t Hash(uint64_t seed, int64_t i, int64_t j, int64_t k = 0) {
 // Uniform in [-1, 1).
 inline double HashUnit(uint64_t seed, int64_t i, int64_t j, int64_t k = 0) {
   return static_cast<double>(Hash(seed, i, j, k) >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+// Standard normal (Box-Muller on two hashes): a draw that depends on its indices alone.
+inline double HashGaussian(uint64_t seed, int64_t i, int64_t j, int64_t k = 0) {
+  const double u1 = (static_cast<double>(Hash(seed, i, j, 2 * k) >> 11) + 1.0) / 9007199254740993.0;
+  const double u2 = static_cast<double>(Hash(seed, i, j, 2 * k + 1) >> 11) / 9007199254740992.0;
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
 // Cheap 32-bit lattice hash for the noise functions (lowbias32 finaliser), in [-1, 1).

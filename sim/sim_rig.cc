@@ -2,10 +2,24 @@
 
 #include <random>
 
+#include "processing/geometry/inclinometer.h"
 #include "processing/geometry/rotation.h"
 #include "sim/noise.h"
 
 namespace ts::sim {
+namespace {
+
+// The stage at home reads its inclinometer once: the levelling the station starts from.
+void ReadInclinometerAtHome(SimRig* rig) {
+  const Eigen::Vector2d home =
+      InclinometerReads(rig->truth.stage, 0.0, rig->inclinometer_index_error_deg);
+  rig->inclinometer_x_deg = home.x();
+  rig->inclinometer_y_deg = home.y();
+  rig->nominal.stage.levelling_x_deg = home.x();
+  rig->nominal.stage.levelling_y_deg = home.y();
+}
+
+}  // namespace
 
 Calibration DesignCalibration(double stage_height_m) {
   Calibration cal;
@@ -58,11 +72,10 @@ SimRig MakeSimRig(uint64_t seed, double stage_height_m) {
   s.tilt_axis_skew_deg = n(0.05);
   s.rig_offset_m += Eigen::Vector3d(n(0.003), n(0.003), n(0.003));
   s.rig_rotation_opk_deg = {n(0.1), n(0.1), n(0.1)};
-  // The inclinometer sees the levelling error to about 0.02 deg; the tape to about 5 mm.
-  rig.inclinometer_x_deg = s.levelling_x_deg + n(0.02);
-  rig.inclinometer_y_deg = s.levelling_y_deg + n(0.02);
-  rig.nominal.stage.levelling_x_deg = rig.inclinometer_x_deg;
-  rig.nominal.stage.levelling_y_deg = rig.inclinometer_y_deg;
+  // The inclinometer's index error is about 0.02 deg; the tape measures to about 5 mm.
+  rig.inclinometer_index_error_deg.x() = n(0.02);
+  rig.inclinometer_index_error_deg.y() = n(0.02);
+  ReadInclinometerAtHome(&rig);
   rig.nominal.stage.height_above_mark_m = stage_height_m + n(0.005);
   rig.right_sensor.sensitivity = 0.92;
   rig.right_sensor.black_level_fraction = 0.02;
@@ -72,8 +85,11 @@ SimRig MakeSimRig(uint64_t seed, double stage_height_m) {
 void BumpTripod(SimRig* rig, double tilt_zero_deg, double levelling_x_deg) {
   rig->truth.stage.tilt_zero_deg += tilt_zero_deg;
   rig->truth.stage.levelling_x_deg += levelling_x_deg;
-  rig->inclinometer_x_deg += levelling_x_deg;
-  rig->nominal.stage.levelling_x_deg = rig->inclinometer_x_deg;
+  ReadInclinometerAtHome(rig);
+}
+
+Eigen::Vector2d InclinometerReadsAt(const SimRig& rig, double pan_deg) {
+  return InclinometerReads(rig.truth.stage, pan_deg, rig.inclinometer_index_error_deg);
 }
 
 }  // namespace ts::sim

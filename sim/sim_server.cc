@@ -9,8 +9,9 @@ Result<std::unique_ptr<SimServer>> SimServer::Start(std::shared_ptr<const SimSta
   std::unique_ptr<SimServer> server(new SimServer());
   server->options_ = options;
   SimulatedStageOptions stage;
-  stage.inclinometer_x_deg = station->rig.inclinometer_x_deg;
-  stage.inclinometer_y_deg = station->rig.inclinometer_y_deg;
+  stage.levelling = station->rig.truth.stage;
+  stage.inclinometer_index_error_deg = station->rig.inclinometer_index_error_deg;
+  stage.inclinometer_noise_deg = station->rig.inclinometer_noise_deg;
   stage.seed = station->scene.seed;
   stage.corrupt_reply_ratio = options.faults.modbus_crc;
   stage.drop_reply_ratio = options.faults.modbus_drop;

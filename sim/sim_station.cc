@@ -93,6 +93,10 @@ Status WritePair(const SimStation& station, const StationRenderOptions& o, Rende
   pair.commanded = commanded;
   // The encoder registers hold millidegrees.
   pair.readback = {std::round(pan_deg * 1e3) / 1e3, std::round(tilt_deg * 1e3) / 1e3};
+  pair.inclinometer_deg = InclinometerReadsAt(station.rig, pair.readback.pan_deg) +
+                          station.rig.inclinometer_noise_deg *
+                              Eigen::Vector2d(HashGaussian(station.scene.seed, 0x1c13, index, 0),
+                                              HashGaussian(station.scene.seed, 0x1c13, index, 1));
   pair.exposure_us = o.exposure_us;
   pair.gain_db = o.gain_db;
   pair.captured_utc = UtcNowIso8601();

@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "core/stage_registers.h"
+#include "processing/geometry/inclinometer.h"
 #include "sim/noise.h"
 
 namespace ts::sim {
@@ -50,12 +51,6 @@ SimulatedStage::SimulatedStage(const SimulatedStageOptions& options)
   r[reg::kModelId] = reg::kModel;
   r[reg::kProtocolVersion] = reg::kVersion;
   Put32(mapping_, reg::kSerial, options.serial);
-  Put32(mapping_, reg::kInclinometerX,
-        static_cast<uint32_t>(
-            static_cast<int32_t>(std::lround(options.inclinometer_x_deg * M_PI / 180.0 * 1e6))));
-  Put32(mapping_, reg::kInclinometerY,
-        static_cast<uint32_t>(
-            static_cast<int32_t>(std::lround(options.inclinometer_y_deg * M_PI / 180.0 * 1e6))));
   r[reg::kTemperature] = static_cast<uint16_t>(int16_t{215});  // 21.5 degC
   for (const auto& [base, axis] :
        {std::pair{reg::kPanBase, &options.pan}, std::pair{reg::kTiltBase, &options.tilt}}) {
@@ -136,6 +131,15 @@ void SimulatedStage::ApplyCommands() {
 }
 
 void SimulatedStage::PublishRegisters() {
+  Eigen::Vector2d tilt = InclinometerReads(options_.levelling, pan_.position_deg(),
+                                           options_.inclinometer_index_error_deg);
+  const uint64_t draw = inclinometer_draws_++;
+  for (int axis = 0; axis < 2; ++axis)
+    tilt[axis] += options_.inclinometer_noise_deg * HashGaussian(options_.seed, 0x1c11, draw, axis);
+  for (const auto& [address, deg] :
+       {std::pair{reg::kInclinometerX, tilt.x()}, std::pair{reg::kInclinometerY, tilt.y()}})
+    Put32(mapping_, address,
+          static_cast<uint32_t>(static_cast<int32_t>(std::lround(deg * M_PI / 180.0 * 1e6))));
   for (const auto& [base, axis] :
        {std::pair{reg::kPanBase, &pan_}, std::pair{reg::kTiltBase, &tilt_}}) {
     Put32(mapping_, base + reg::kActual, static_cast<uint32_t>(Millidegrees(axis->position_deg())));

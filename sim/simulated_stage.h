@@ -16,6 +16,7 @@
 
 #include "core/result.h"
 #include "processing/geometry/capture_plan.h"
+#include "processing/geometry/stage_kinematics.h"
 #include "sim/stage_dynamics.h"
 
 struct _modbus_mapping_t;
@@ -23,10 +24,13 @@ struct _modbus_mapping_t;
 namespace ts::sim {
 
 struct SimulatedStageOptions {
-  AxisSettings pan;                 // default 60 deg/s, 180 deg/s^2, settling 0.2 s
-  AxisSettings tilt;                // default 30 deg/s, soft limits +-32 deg
-  double inclinometer_x_deg = 0.0;  // what the device block reports
-  double inclinometer_y_deg = 0.0;
+  AxisSettings pan;   // default 60 deg/s, 180 deg/s^2, settling 0.2 s
+  AxisSettings tilt;  // default 30 deg/s, soft limits +-32 deg
+  // The inclinometer rides the pan (inclinometer.h): it reads this set-up's levelling (and pan
+  // zero) turned by the encoder's pan, plus its index error and, at each reading, its noise.
+  StageKinematics levelling;
+  Eigen::Vector2d inclinometer_index_error_deg = Eigen::Vector2d::Zero();
+  double inclinometer_noise_deg = 0.0;
   uint32_t serial = 7501001;
   double corrupt_reply_ratio = 0.0;  // fault modbus-crc: replies with a broken checksum
   double drop_reply_ratio = 0.0;     // fault modbus-drop: requests never answered
@@ -83,6 +87,7 @@ class SimulatedStage {
   std::vector<void*> contexts_;
   std::vector<int> fds_;
   uint64_t rng_state_;
+  uint64_t inclinometer_draws_ = 0;
 };
 
 }  // namespace ts::sim

@@ -60,7 +60,9 @@ Status WriteTruthDirectory(const Scene& scene, const SimRig& rig, const std::str
       {"trees", trees},
       {"bushes", bushes},
       {"object_cover_fraction", covered / mask.values.size()},
-      {"inclinometer_deg", {rig.inclinometer_x_deg, rig.inclinometer_y_deg}},
+      {"inclinometer_deg", {rig.inclinometer_x_deg, rig.inclinometer_y_deg}},  // at home
+      {"inclinometer_index_error_deg",
+       {rig.inclinometer_index_error_deg.x(), rig.inclinometer_index_error_deg.y()}},
       {"files",
        {{"dem", "dem.tif"},
         {"dem_fine", "dem_fine.tif"},

@@ -44,7 +44,8 @@ struct CalibrateRigArgs {
 };
 
 // A station's tie points, with the calibration's stage and the station's levelling and height.
-RigAdjustmentInput StationTies(const std::string& station, const std::string& calibration_file) {
+RigAdjustmentInput StationTies(const std::string& station, const std::string& calibration_file,
+                               const RigAdjustmentOptions& options) {
   const Result<StationInputs> in = LoadStationInputs(station, calibration_file, "");
   if (!in) throw CommandError(in.error());
   std::vector<StereoPairImages> pairs;
@@ -57,7 +58,8 @@ RigAdjustmentInput StationTies(const std::string& station, const std::string& ca
   const Calibration& calibration = in->calibration;  // levelled as the station
   const std::vector<MatchedPair> matched =
       MatchPairsIntoL(calibration, Rectify(calibration.rig), pairs, PairMatchOptions::ForStation());
-  return StationTiePoints(FindRigTiePoints(calibration, pairs, matched, {}));
+  return StationTiePoints(FindRigTiePoints(calibration, pairs, matched, {}), in->manifest.pairs,
+                          options);
 }
 
 // The field session's targets, measured with the calibration's cameras, seen from its poses.
@@ -89,7 +91,7 @@ RigAdjustmentInput FieldTies(const CalibrateRigArgs& args, const Calibration& ca
 RigCheck CheckSetUps(const CalibrateRigArgs& args, const Calibration& calibration) {
   std::vector<RigAdjustmentInput> ties;
   for (const std::string& station : args.stations)
-    ties.push_back(StationTies(station, args.calibration));
+    ties.push_back(StationTies(station, args.calibration, args.adjustment));
   if (!args.field_session.empty()) ties.push_back(FieldTies(args, calibration));
   const Result<RigCheck> check = CheckRig(ties, args.adjustment);
   if (check) return *check;

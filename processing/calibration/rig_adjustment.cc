@@ -378,14 +378,16 @@ Status BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& contr
     double* levelling = u->levelling[s].data();
     if (!problem->HasParameterBlock(levelling)) continue;
     const int x = LevellingParameter(static_cast<int>(s), 0);
+    const double inclinometer_sigma = stations[s].inclinometer_sigma_deg > 0.0
+                                          ? stations[s].inclinometer_sigma_deg
+                                          : o.inclinometer_sigma_deg;
     if (stations[s].inclinometer_deg && !held.count(x) && !held.count(x + 1))
-      problem->AddResidualBlock(
-          ParameterObservation(
-              {{0, 1},
-               {stations[s].inclinometer_deg->x(), stations[s].inclinometer_deg->y()},
-               {o.inclinometer_sigma_deg, o.inclinometer_sigma_deg}},
-              2),
-          nullptr, levelling);
+      problem->AddResidualBlock(ParameterObservation({{0, 1},
+                                                      {stations[s].inclinometer_deg->x(),
+                                                       stations[s].inclinometer_deg->y()},
+                                                      {inclinometer_sigma, inclinometer_sigma}},
+                                                     2),
+                                nullptr, levelling);
     add_prior(levelling, x, 2);
   }
   return AddCameraPriors(in.calibration, o.refine_cameras, &u->cameras, problem);

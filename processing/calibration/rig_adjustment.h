@@ -44,18 +44,22 @@
 namespace ts {
 
 struct RigAdjustmentOptions {
-  double pixel_sigma_px = 0.3;       // a tie point's image measurement, a priori
-  double encoder_sigma_deg = 0.002;  // the stage's read-back angles
-  double inclinometer_sigma_deg = 0.02;
-  double prior_angle_sigma_deg = 1.0;  // levelling, tilt zero, skew, rig rotation
-  double prior_offset_sigma_m = 0.02;  // tilt-axis and rig offsets
-  bool refine_cameras = false;         // rig_cameras.h
+  double pixel_sigma_px = 0.3;            // a tie point's image measurement, a priori
+  double encoder_sigma_deg = 0.002;       // the stage's read-back angles
+  double inclinometer_sigma_deg = 0.02;   // one reading: its index error
+  double inclinometer_noise_deg = 0.002;  // a reading's noise (inclinometer.h)
+  double prior_angle_sigma_deg = 1.0;     // levelling, tilt zero, skew, rig rotation
+  double prior_offset_sigma_m = 0.02;     // tilt-axis and rig offsets
+  bool refine_cameras = false;            // rig_cameras.h
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("pixel_sigma_px", self.pixel_sigma_px, {"a tie point's image sigma", "px", 1e-3, 10});
     v("encoder_sigma_deg", self.encoder_sigma_deg, {"read-back angle sigma", "deg", 1e-5, 1});
     v("inclinometer_sigma_deg", self.inclinometer_sigma_deg,
-      {"inclinometer sigma", "deg", 1e-4, 1});
+      {"sigma of the levelling from one inclinometer reading", "deg", 1e-4, 1});
+    v("inclinometer_noise_deg", self.inclinometer_noise_deg,
+      {"noise of an inclinometer reading (readings round the pan fit the levelling)", "deg", 1e-5,
+       1});
     v("prior_angle_sigma_deg", self.prior_angle_sigma_deg,
       {"prior sigma of the stage's small angles", "deg", 1e-4, 10});
     v("prior_offset_sigma_m", self.prior_offset_sigma_m,
@@ -76,6 +80,7 @@ struct RigPose {
 struct RigStation {
   Eigen::Vector2d levelling_deg = Eigen::Vector2d::Zero();  // the start and the prior
   std::optional<Eigen::Vector2d> inclinometer_deg;          // its reading, when there is one
+  double inclinometer_sigma_deg = 0.0;  // of that reading; 0: the options' (one reading)
 };
 
 struct RigTieObservation {

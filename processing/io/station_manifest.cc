@@ -107,6 +107,8 @@ json PairToJson(const PairRecord& p) {
             {"left", {{"file", p.left.file}, {"sha256", p.left.sha256}}},
             {"right", {{"file", p.right.file}, {"sha256", p.right.sha256}}}};
   if (json t = TimelineToJson(p.timeline); !t.empty()) j["timeline"] = t;
+  if (p.inclinometer_deg)
+    j["inclinometer_deg"] = {{"x", p.inclinometer_deg->x()}, {"y", p.inclinometer_deg->y()}};
   return j;
 }
 
@@ -134,6 +136,12 @@ PairRecord PairFromJson(const JsonObject& o) {
   p.left = ImageFromJson(o.Object("left"));
   p.right = ImageFromJson(o.Object("right"));
   if (o.Has("timeline")) p.timeline = TimelineFromJson(o.Object("timeline"));
+  if (o.Has("inclinometer_deg")) {
+    const JsonObject tilt = o.Object("inclinometer_deg");
+    p.inclinometer_deg = Eigen::Vector2d(tilt.Number("x"), tilt.Number("y"));
+    if (p.inclinometer_deg->cwiseAbs().maxCoeff() > 90.0)
+      tilt.Fail("x", "an inclinometer reading must be within 90 deg");
+  }
   return p;
 }
 

@@ -57,6 +57,8 @@ struct PairRecord {
   ImageRecord left;
   ImageRecord right;
   PairTimeline timeline;
+  // The stage's inclinometer read at the pose (x, y, deg; inclinometer.h), when it was read.
+  std::optional<Eigen::Vector2d> inclinometer_deg;
 };
 
 struct StationManifest {

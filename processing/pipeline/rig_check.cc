@@ -2,11 +2,23 @@
 
 #include <algorithm>
 
+#include "processing/geometry/inclinometer.h"
+
 namespace ts {
 
-RigAdjustmentInput StationTiePoints(RigAdjustmentInput found) {
+RigAdjustmentInput StationTiePoints(RigAdjustmentInput found, const std::vector<PairRecord>& pairs,
+                                    const RigAdjustmentOptions& options) {
   found.stations = found.Stations();
-  found.stations[0].inclinometer_deg = found.stations[0].levelling_deg;
+  RigStation& station = found.stations[0];
+  station.inclinometer_deg = station.levelling_deg;
+  std::vector<InclinometerReading> readings;
+  for (const PairRecord& p : pairs)
+    if (p.inclinometer_deg) readings.push_back({p.readback.pan_deg, *p.inclinometer_deg});
+  if (const std::optional<LevellingFit> fit =
+          FitLevelling(readings, found.calibration.stage, options.inclinometer_noise_deg)) {
+    station.inclinometer_deg = fit->levelling_deg;
+    station.inclinometer_sigma_deg = fit->levelling_sigma_deg;
+  }
   return found;
 }
 
@@ -95,6 +107,15 @@ nlohmann::json RigCheckJson(const RigCheck& check, bool used) {
            {{"value", value.x()}, {"sigma", sigma.x()}, {"change", value.x() - start.x()}}},
           {"levelling_y_deg",
            {{"value", value.y()}, {"sigma", sigma.y()}, {"change", value.y() - start.y()}}}};
+      const RigStation& set_up = check.stations[k];
+      if (set_up.inclinometer_deg) {
+        // Fitted to the readings round the pan (its own sigma), or the one reading at home.
+        station["inclinometer"] = {
+            {"levelling_deg", {set_up.inclinometer_deg->x(), set_up.inclinometer_deg->y()}},
+            {"fitted_round_the_pan", set_up.inclinometer_sigma_deg > 0.0}};
+        if (set_up.inclinometer_sigma_deg > 0.0)
+          station["inclinometer"]["sigma_deg"] = set_up.inclinometer_sigma_deg;
+      }
       if (check.at_control_field[k])
         station["control_field"] = true;  // its levelling held, the field's pose turns it
       else

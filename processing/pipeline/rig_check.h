@@ -38,8 +38,11 @@ struct RigCheck {
 };
 
 // A station's tie points (rig_tie_points.h, found with the calibration levelled as the station:
-// station_inputs.h), its levelling also the inclinometer's reading.
-RigAdjustmentInput StationTiePoints(RigAdjustmentInput found);
+// station_inputs.h) and its inclinometer: the levelling fitted to the readings at the pairs'
+// pans when they go round the circle (inclinometer.h: the index error cancels), else the one
+// reading at home the station's levelling holds, with the options' sigma for each.
+RigAdjustmentInput StationTiePoints(RigAdjustmentInput found, const std::vector<PairRecord>& pairs,
+                                    const RigAdjustmentOptions& options);
 
 // One or more stations of one rig (StationTiePoints of each) in one adjustment: the stage
 // shared, each station's levelling its own; the seams before and after.

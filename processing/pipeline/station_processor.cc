@@ -275,7 +275,8 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   }
   if (!untied.empty()) tie_finder_->Add(untied, matched);
   const Result<RigCheck> check =
-      CheckRig({StationTiePoints(tie_finder_->Input(order))}, options_.rig_adjustment);
+      CheckRig({StationTiePoints(tie_finder_->Input(order), records, options_.rig_adjustment)},
+               options_.rig_adjustment);
   if (!check) {
     s->warnings.push_back("rig not checked: " + check.error());
     return true;

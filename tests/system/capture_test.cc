@@ -17,6 +17,7 @@
 
 #include "devices/aravis_camera.h"
 #include "devices/modbus_stage.h"
+#include "processing/geometry/inclinometer.h"
 #include "processing/io/calibration_yaml.h"
 #include "processing/io/station_manifest.h"
 #include "processing/io/station_validator.h"
@@ -130,8 +131,25 @@ TEST_F(CaptureTest, CapturesACompleteValidPanorama) {
   }
   EXPECT_NEAR(s->timeline["total_s"]["stage_wait_s"].get<double>(), stage_wait_s, 1e-9);
   EXPECT_EQ(s->timeline["pairs"].size(), 12u);
-  // The stage's inclinometer reading is the station's levelling.
-  EXPECT_NEAR(m->calibration.stage.levelling_x_deg, station_->rig.inclinometer_x_deg, 1e-4);
+  // The stage's inclinometer reading at home is the station's levelling (to the reading's
+  // noise, 0.002 deg); each pair holds its reading at its pan, and those round the circle fit
+  // the true levelling, free of the index error.
+  const sim::SimRig& rig = station_->rig;
+  EXPECT_NEAR(m->calibration.stage.levelling_x_deg, rig.inclinometer_x_deg, 0.01);
+  std::vector<InclinometerReading> readings;
+  for (const PairRecord& pair : m->pairs) {
+    ASSERT_TRUE(pair.inclinometer_deg) << pair.index;
+    EXPECT_LT(
+        (*pair.inclinometer_deg - sim::InclinometerReadsAt(rig, pair.readback.pan_deg)).norm(),
+        0.01);
+    readings.push_back({pair.readback.pan_deg, *pair.inclinometer_deg});
+  }
+  const std::optional<LevellingFit> fit =
+      FitLevelling(readings, rig.truth.stage, rig.inclinometer_noise_deg);
+  ASSERT_TRUE(fit);
+  const Eigen::Vector2d truth(rig.truth.stage.levelling_x_deg, rig.truth.stage.levelling_y_deg);
+  EXPECT_LT((fit->levelling_deg - truth).cwiseAbs().maxCoeff(), 4 * fit->levelling_sigma_deg);
+  EXPECT_LT((fit->index_error_deg - rig.inclinometer_index_error_deg).norm(), 0.005);
   const PairRecord& p = m->pairs[3];
   const Result<cv::Mat> image =
       ReadMonoPng(dir_ / ("S/" + p.left.file), PixelFormat::kMono8, 1392, 1040);

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/stage_registers.h"
+#include "processing/geometry/inclinometer.h"
 #include "sim/simulated_stage.h"
 
 namespace ts::sim {
@@ -67,7 +68,16 @@ class Client {
 void FullCycle(Client& c, const SimulatedStageOptions& options) {
   EXPECT_EQ(c.Read(reg::kModelId), reg::kModel);
   EXPECT_EQ(c.Read(reg::kProtocolVersion), reg::kVersion);
-  EXPECT_NEAR(c.Read32(reg::kInclinometerX), options.inclinometer_x_deg * M_PI / 180 * 1e6, 1);
+  // The inclinometer rides the pan: it reads the levelling turned by the pan, and its index
+  // error.
+  auto reads = [&](double pan_deg, uint16_t address) {
+    const Eigen::Vector2d deg =
+        InclinometerReads(options.levelling, pan_deg, options.inclinometer_index_error_deg);
+    return deg[address == reg::kInclinometerX ? 0 : 1] * M_PI / 180 * 1e6;
+  };
+  const double unhomed_pan = static_cast<int32_t>(c.Read32(reg::kPanBase + reg::kActual)) / 1000.0;
+  for (uint16_t address : {reg::kInclinometerX, reg::kInclinometerY})
+    EXPECT_NEAR(static_cast<int32_t>(c.Read32(address)), reads(unhomed_pan, address), 1);
   // Home both axes.
   c.Command(reg::kPanBase, reg::kHome);
   c.Command(reg::kTiltBase, reg::kHome);
@@ -85,6 +95,9 @@ void FullCycle(Client& c, const SimulatedStageOptions& options) {
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   EXPECT_NEAR(seconds, 2.03, 0.3);
   EXPECT_NEAR(c.Read32(reg::kPanBase + reg::kActual), 90000, 10);
+  const double pan = static_cast<int32_t>(c.Read32(reg::kPanBase + reg::kActual)) / 1000.0;
+  for (uint16_t address : {reg::kInclinometerX, reg::kInclinometerY})  // turned with the pan
+    EXPECT_NEAR(static_cast<int32_t>(c.Read32(address)), reads(pan, address), 1);
   // Tilt beyond its soft limit: alarm, limit, code 2; nothing moves; reset clears it.
   c.Write32(reg::kTiltBase + reg::kTarget, 40000);
   c.Command(reg::kTiltBase, reg::kStart);
@@ -105,7 +118,8 @@ void FullCycle(Client& c, const SimulatedStageOptions& options) {
 
 TEST(SimulatedStage, FullCycleOverModbusTcp) {
   SimulatedStageOptions options;
-  options.inclinometer_x_deg = 0.12;
+  options.levelling.levelling_x_deg = 0.12;
+  options.inclinometer_index_error_deg = {0.01, -0.02};
   SimulatedStage stage(options);
   ASSERT_TRUE(stage.ListenTcp("127.0.0.1", 15121).ok());
   Client client(modbus_new_tcp("127.0.0.1", 15121));
@@ -115,7 +129,8 @@ TEST(SimulatedStage, FullCycleOverModbusTcp) {
 
 TEST(SimulatedStage, FullCycleOverModbusRtuOnAPseudoTerminal) {
   SimulatedStageOptions options;
-  options.inclinometer_x_deg = -0.2;
+  options.levelling.levelling_x_deg = -0.2;
+  options.levelling.pan_zero_deg = 0.7;
   SimulatedStage stage(options);
   const Result<std::string> pty = stage.ServePty();
   ASSERT_TRUE(pty.ok()) << pty.error();

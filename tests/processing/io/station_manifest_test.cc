@@ -29,12 +29,26 @@ TEST(StationManifest, RoundTripsThroughJson) {
   EXPECT_FALSE(back->Complete());
   EXPECT_NE(back->FindPair(2), nullptr);
   EXPECT_EQ(back->FindPair(3), nullptr);
+  EXPECT_FALSE(back->pairs[0].inclinometer_deg);  // not read: none
   // Serialising again gives the same document.
   EXPECT_EQ(ManifestToJson(*back), ManifestToJson(*LoadStationManifest(dir.path().string())));
 }
 
 // The capture timeline goes with its pair (a resume keeps it); a pair without one (a rendered
 // station) has none, and the report's timeline holds only the pairs that have one.
+// A pair's inclinometer reading, when the capture read one, round-trips to the digit.
+TEST(StationManifest, APairsInclinometerReadingRoundTrips) {
+  testing::TempDir dir;
+  StationManifest m = testing::MakeStation(dir.path().string(), 12, 3);
+  m.pairs[1].inclinometer_deg = Eigen::Vector2d(0.123456789, -0.0205);
+  ASSERT_TRUE(SaveStationManifest(&m, dir.path().string()).ok());
+  const Result<StationManifest> back = LoadStationManifest(dir.path().string());
+  ASSERT_TRUE(back.ok()) << back.error();
+  ASSERT_TRUE(back->pairs[1].inclinometer_deg);
+  EXPECT_EQ(*back->pairs[1].inclinometer_deg, Eigen::Vector2d(0.123456789, -0.0205));
+  EXPECT_FALSE(back->pairs[0].inclinometer_deg);
+}
+
 TEST(StationManifest, CaptureTimelineRoundTripsAndSums) {
   testing::TempDir dir;
   StationManifest m = testing::MakeStation(dir.path().string(), 12, 3);
@@ -111,6 +125,16 @@ INSTANTIATE_TEST_SUITE_P(
                    d["pairs"][1]["timeline"] = {{"write_s", -1}};
                  },
                  "pairs[1].timeline.write_s: must not be negative"},
+        Mutation{"inclinometer_missing_y",
+                 [](json& d) {
+                   d["pairs"][1]["inclinometer_deg"] = {{"x", 0.1}};
+                 },
+                 "pairs[1].inclinometer_deg.y: missing"},
+        Mutation{"inclinometer_past_90",
+                 [](json& d) {
+                   d["pairs"][1]["inclinometer_deg"] = {{"x", 91}, {"y", 0}};
+                 },
+                 "pairs[1].inclinometer_deg.x: an inclinometer reading must be within 90 deg"},
         Mutation{"not_object", [](json& d) { d = json::array(); }, "document: must be an object"},
         Mutation{"readback_1e300", [](json& d) { d["pairs"][1]["readback"]["pan_deg"] = 1e300; },
                  "pairs[1].readback.pan_deg: must be within 360 deg"},
