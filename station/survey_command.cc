@@ -2,10 +2,10 @@
 // the daemon.
 // topostation survey --sim [--scene NAME | --dem FILE] --out STATION [--truth DIR]: the main
 // job end to end on the simulated station, as a field team runs it (issue 21): the rig is
-// calibrated at a simulated control field (`calibrate stereo`, run as the team runs it, the
-// stage's design values kept), then the simulated cameras and stage are served on loopback
-// (in a private network namespace it makes itself), the panorama is captured over the real
-// drivers (Aravis, libmodbus), processed with the stage self-calibrated on its own seams, and,
+// calibrated at a simulated control field (`calibrate stereo` for the cameras and `calibrate
+// rig` for the stage, run as the team runs them), then the simulated cameras and stage are served
+// on loopback (in a private network namespace it makes itself), the panorama is captured over the
+// real drivers (Aravis, libmodbus), processed with the stage self-calibrated on its own seams, and,
 // since the truth is known, the DEM is evaluated against it. --true-calibration (for
 // benchmarks that isolate matching from calibration) and --nominal-calibration skip the
 // session.
@@ -58,12 +58,16 @@ void RunSelf(const std::vector<std::string>& args, const std::string& log) {
     throw CommandError(args[0] + " " + args[1] + " failed: see " + log);
 }
 
-// The field team's calibration: a session at a control field of the station's true rig, and
-// `calibrate stereo` on it with the stage's design values (the stage is self-calibrated at
-// the station). Returns the calibration file.
+// The field team's calibration: a session at a control field of the station's true rig,
+// `calibrate stereo` on it with the stage's design values, then `calibrate rig` on the same
+// session: the targets fix where each camera stands at each stage pose, so the offsets the
+// station's own panorama cannot see (the rig's height over the tilt axis, which lifts the
+// whole DEM) come from the field; the angles that drift with transport are self-calibrated at
+// the station. Returns the calibration file.
 std::string CalibrateAtAField(const sim::SimStation& station, const std::string& dir,
                               const std::string& truth_dir) {
-  const std::string session = dir + "/session", out = dir + "/calibration.yaml";
+  const std::string session = dir + "/session", cameras = dir + "/cameras.yaml",
+                    out = dir + "/calibration.yaml";
   if (Status s = sim::WriteFieldSession(station.rig, station.scene.seed, {}, session,
                                         truth_dir + "/calibration-session");
       !s)
@@ -71,8 +75,12 @@ std::string CalibrateAtAField(const sim::SimStation& station, const std::string&
   RunSelf({"calibrate", "stereo", "--left", session + "/left/*.png", "--right",
            session + "/right/*.png", "--control-field", session + "/field.yaml", "--marks",
            session + "/marks.yaml", "--start", session + "/design.yaml", "--stage-from",
-           session + "/design.yaml", "--out", out},
+           session + "/design.yaml", "--out", cameras},
           dir + "/calibrate.log");
+  RunSelf(
+      {"calibrate", "rig", "--field-session", session, "--control-field", session + "/field.yaml",
+       "--marks", session + "/marks.yaml", "--calibration", cameras, "--out", out},
+      dir + "/calibrate-rig.log");
   return out;
 }
 

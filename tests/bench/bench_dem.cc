@@ -12,8 +12,9 @@
 //    against the bowl (volume, deepest point in its sigma);
 //  - beside the true calibration, the same station processed as a field team would (issue 21):
 //    the rig calibrated at a simulated control field of the same rig (`calibrate stereo`, the
-//    stage's design values), `process --self-calibrate-rig`, `evaluate` (in the station's own
-//    azimuth datum): DEM RMSE within 10 % of the true calibration's, coverage within 1 point;
+//    stage's design values, then `calibrate rig` on the session), `process --self-calibrate-rig`,
+//    `evaluate` (in the station's own azimuth datum): DEM RMSE within 10 % of the true
+//    calibration's, coverage within 1 point;
 //  - the ISPRS filter-test samples: mean total error of our ground filter and, beside it,
 //    PCL's progressive morphological filter with the PCL tutorial settings;
 //  - with --seeds 2,3,...: hills and forest stations of other seeds (other sites of the same
@@ -124,19 +125,23 @@ std::string Run(const std::string& command) {
 }
 
 // The rendered station (a copy) processed on the calibration a field team would have: a
-// control-field session of its rig, `calibrate stereo` with the stage's design values, the
-// stage self-calibrated on the station's seams. Against the true calibration's evaluation.
+// control-field session of its rig, `calibrate stereo` with the stage's design values and
+// `calibrate rig` on the same session (as survey --sim does), the stage self-calibrated on the
+// station's seams. Against the true calibration's evaluation.
 void EstimatedCalibration(const std::string& scene, const sim::SimStation& station,
                           const std::string& station_dir, const std::string& truth_dir,
                           const DemEvaluation& with_truth, bench::Table* table) {
   testing::TempDir dir;
-  const std::string session = dir / "session", cal = dir / "calibration.yaml";
+  const std::string session = dir / "session", cameras = dir / "cameras.yaml",
+                    cal = dir / "calibration.yaml";
   if (!sim::WriteFieldSession(station.rig, station.scene.seed, {}, session, dir / "session-truth"))
     std::exit(1);
   Run("calibrate stereo --left '" + session + "/left/*.png' --right '" + session +
       "/right/*.png' --control-field " + session + "/field.yaml --marks " + session +
       "/marks.yaml --start " + session + "/design.yaml --stage-from " + session +
-      "/design.yaml --out " + cal);
+      "/design.yaml --out " + cameras);
+  Run("calibrate rig --field-session " + session + " --control-field " + session +
+      "/field.yaml --marks " + session + "/marks.yaml --calibration " + cameras + " --out " + cal);
   const std::string copy = dir / "station";
   std::filesystem::copy(station_dir, copy, std::filesystem::copy_options::recursive);
   std::filesystem::remove_all(copy + "/products");
