@@ -203,6 +203,10 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
         if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
         if (!has_horizon || setter == Setter::kObject || z <= horizon + o.tolerance_m) continue;
         count.lowering_m += z - horizon;
+        // Lowered on the premise that ground seen is ground matched: the kriged height stays
+        // possible (seen, not matched), so the std spans it.
+        if (std && !Raster::IsNoData(std->at(row, col)))
+          std->at(row, col) = static_cast<float>(std::hypot(std->at(row, col), z - horizon));
         z = static_cast<float>(horizon);
         ++count.lowered;
       }

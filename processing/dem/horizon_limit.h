@@ -29,7 +29,8 @@
 // such cell becomes nodata. Its kriging standard deviation says how far it reached.
 //
 // The horizon comes from the points that were matched: where seen ground went unmatched it
-// lies too low, which is why only extrapolated cells are lowered.
+// lies too low, which is why only extrapolated cells are lowered, and why a lowered cell's std
+// (when given) spans the height it was lowered from: ground seen and not matched stands there.
 //
 // The cells the DEM is left without get their horizon too (HorizonLimitResult::horizon): the
 // terrain correction estimates every cell of the square, and ground nobody saw behind a brow

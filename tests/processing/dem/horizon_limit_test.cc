@@ -75,6 +75,24 @@ TEST(HorizonLimit, LowersTheHollowBehindABrowToTheLineOfSight) {
   EXPECT_GT(result.mean_lowering_m, 0.3);
 }
 
+// The lowering rests on "seen ground is matched ground": the kriged height stays possible
+// (ground seen and not matched), so a lowered cell's std spans the lowering, in quadrature with
+// its own; a cell left alone keeps its std.
+TEST(HorizonLimit, ALoweredCellsStdSpansTheHeightItWasLoweredFrom) {
+  HorizonScene s;
+  s.Ring(2.0, 10.0, true, Rise);
+  Raster dem = Extrapolated();
+  const Raster kriged = dem;
+  Raster std = dem;
+  for (float& v : std.values) v = 0.1f;
+  LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem, &std);
+  ASSERT_GT(ExpectHollowLoweredToTheLineOfSight(dem), 20);
+  for (size_t i = 0; i < dem.values.size(); ++i) {
+    const double lowering = kriged.values[i] - dem.values[i];
+    EXPECT_NEAR(std.values[i], std::hypot(0.1, lowering), 1e-5) << i;
+  }
+}
+
 // The brow's own crest is convex ground a morphological filter takes for an object (a dike's
 // or an embankment's top): the points on it stand on the terrain, not above it, and still set
 // the horizon the hollow behind lies below.
