@@ -202,13 +202,16 @@ Result<CaptureSummary> CaptureStation(Stage& stage, Camera& left, Camera& right,
     Result<PairFrames> frames = seq.TakePair(index, summary.total_pairs);
     if (!frames) return Error{frames.error()};
     frames->readback = *at;
-    // The inclinometer turns with the pan: read at every pose, it tells the levelling from its
-    // own index error (inclinometer.h). A failed read costs only that reading.
-    if (const Result<StageInfo> tilt = stage.Identify(); tilt)
-      frames->inclinometer_deg =
-          Eigen::Vector2d(tilt->inclinometer_x_deg, tilt->inclinometer_y_deg);
-    else
-      Log().info("{}: inclinometer not read: {}", PairName(index), tilt.error());
+    // An inclinometer on the pan platform, read at every pose, tells the levelling from its
+    // own index error (inclinometer.h); one on the base has nothing new to say. A failed read
+    // costs only that reading.
+    if (rig.stage.inclinometer_turns_with_pan) {
+      if (const Result<StageInfo> tilt = stage.Identify(); tilt)
+        frames->inclinometer_deg =
+            Eigen::Vector2d(tilt->inclinometer_x_deg, tilt->inclinometer_y_deg);
+      else
+        Log().info("{}: inclinometer not read: {}", PairName(index), tilt.error());
+    }
     // Terrain going on above this view: the pose above it is taken next. The plan grows in
     // memory and is saved with this pair's commit, so a resume knows it.
     const auto look_up_started = Clock::now();

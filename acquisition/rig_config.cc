@@ -37,6 +37,11 @@ StageEndpoint ParseStage(YamlMap m) {
     m.Fail("transport", "must be tcp or rtu, got '" + transport + "'");
   }
   s.unit_id = m.Int("unit_id", 1, 247, 1);
+  const std::string inclinometer = m.String("inclinometer", "pan");
+  if (inclinometer != "pan" && inclinometer != "base")
+    m.Fail("inclinometer",
+           "must be pan (it turns with the pan) or base, got '" + inclinometer + "'");
+  s.inclinometer_turns_with_pan = inclinometer == "pan";
   m.RejectUnknownKeys();
   return s;
 }

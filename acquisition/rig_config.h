@@ -8,9 +8,12 @@
 //   devices:
 //     left_camera:  {id: TS-SIM-L, packet_size_bytes: 0}
 //     right_camera: {id: TS-SIM-R}
-//     stage: {transport: tcp, host: 127.0.0.1, port: 15020, unit_id: 1}
+//     stage: {transport: tcp, host: 127.0.0.1, port: 15020, unit_id: 1, inclinometer: pan}
 //        or  {transport: rtu, device: /dev/topostation-stage, baud: 115200, parity: N,
 //             rs485: false, unit_id: 1}
+//   inclinometer: pan (default: it rides the pan platform, as on topostation's stage; capture
+//   reads it at every pose and processing fits the levelling free of its index error) or base
+//   (one reading, at the start).
 #include <string>
 
 #include "core/result.h"

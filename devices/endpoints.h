@@ -23,6 +23,9 @@ struct StageEndpoint {
   char parity = 'N';               // RTU: 'N', 'E' or 'O'
   bool rs485 = false;              // RTU: switch the line to RS-485 mode
   int unit_id = 1;                 // Modbus unit (slave) id
+  // Where the device block's inclinometer sits: on the pan platform (it turns with the pan, so
+  // readings round the circle cancel its index error: inclinometer.h), or on the base.
+  bool inclinometer_turns_with_pan = true;
   bool Check(std::string* why) const;
 };
 

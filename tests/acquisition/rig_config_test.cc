@@ -45,6 +45,13 @@ TEST(RigConfig, ReadsAnExternalCalibrationFileRelativeToTheRig) {
   EXPECT_DOUBLE_EQ(rig->calibration.rig.baseline_m, 0.4);
   EXPECT_EQ(rig->stage.port, 15020);
   EXPECT_EQ(rig->stage.unit_id, 1);
+  EXPECT_TRUE(rig->stage.inclinometer_turns_with_pan);  // topostation's stage: on the pan
+  std::ofstream(dir / "base.yaml")
+      << Rig("{transport: tcp, host: 127.0.0.1, port: 15020, inclinometer: base}",
+             "calibration_file: cal.yaml");
+  const Result<RigConfig> base = LoadRigConfig(dir / "base.yaml");
+  ASSERT_TRUE(base.ok()) << base.error();
+  EXPECT_FALSE(base->stage.inclinometer_turns_with_pan);
 }
 
 struct BadRig {
@@ -79,6 +86,11 @@ INSTANTIATE_TEST_SUITE_P(
                "devices.stage.port: must be in [1, 65535]"},
         BadRig{"rtu_without_device", Rig("{transport: rtu}", "calibration_file: cal.yaml"),
                "devices.stage.device: missing"},
+        BadRig{"inclinometer",
+               Rig("{transport: tcp, host: x, port: 1, inclinometer: tilt}",
+                   "calibration_file: cal.yaml"),
+               "devices.stage.inclinometer: must be pan (it turns with the pan) or base, got "
+               "'tilt'"},
         BadRig{"no_calibration", Rig(kTcp, ""), "give exactly one of calibration"},
         BadRig{"missing_calibration_file", Rig(kTcp, "calibration_file: nope.yaml"),
                "nope.yaml: cannot read file"},

@@ -59,7 +59,7 @@ class CaptureTest : public ::testing::Test {
   std::string WriteRig(bool rtu = false) {
     const std::string stage =
         rtu ? "{transport: rtu, device: " + server_->Endpoints()["stage_rtu"].get<std::string>() +
-                  ", rs485: true}"
+                  ", rs485: true, inclinometer: base}"
             : testing::TcpStage(port_);
     return testing::WriteSimRigConfig(dir_ / "rig.yaml", stage);
   }
@@ -177,7 +177,10 @@ TEST_F(CaptureTest, ModbusNoiseOnTheSerialLineIsRetriedAway) {
   Serve(15151, faults);
   const Result<CaptureSummary> s = Capture(WriteRig(/*rtu=*/true), false, Short(4));
   ASSERT_TRUE(s.ok()) << s.error();
-  EXPECT_TRUE(ValidateStation(dir_ / "S", {.require_complete = true}).ok());
+  const Result<StationManifest> m = ValidateStation(dir_ / "S", {.require_complete = true});
+  ASSERT_TRUE(m.ok()) << m.error();
+  // This rig's inclinometer is declared on the base: one reading, none per pose.
+  for (const PairRecord& p : m->pairs) EXPECT_FALSE(p.inclinometer_deg) << p.index;
 }
 
 TEST_F(CaptureTest, OnePercentGvspLossStillGivesEveryImageValid) {
