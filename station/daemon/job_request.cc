@@ -3,7 +3,6 @@
 #include <cmath>
 #include <set>
 
-#include "processing/io/control_field_file.h"
 #include "station/daemon/daemon_config.h"
 
 namespace ts::daemon {
@@ -163,11 +162,9 @@ Result<JobRequest> ParseCalibrateField(const nlohmann::json& body) {
     return Error{"session: must be the id of a capture_field job's session"};
   if (!body.contains("control_field")) return Error{"control_field: missing"};
   if (!body.contains("marks")) return Error{"marks: missing"};
-  const Result<ControlField> field =
-      ParseControlField(nlohmann::json{{"control_field", body["control_field"]}}.dump());
+  const Result<ControlField> field = ControlFieldOf(body);
   if (!field) return Error{field.error()};
-  const Result<std::vector<ImageMarks>> marks =
-      ParseTargetMarks(nlohmann::json{{"marks", body["marks"]}}.dump());
+  const Result<std::vector<ImageMarks>> marks = TargetMarksOf(body);
   if (!marks) return Error{marks.error()};
   for (size_t i = 0; i < marks->size(); ++i)
     for (size_t k = 0; k < (*marks)[i].marks.size(); ++k)
@@ -183,6 +180,16 @@ Result<JobRequest> ParseCalibrateField(const nlohmann::json& body) {
 }
 
 }  // namespace
+
+Result<ControlField> ControlFieldOf(const nlohmann::json& fields) {
+  return ParseControlField(
+      nlohmann::json{{"control_field", fields.value("control_field", nlohmann::json())}}.dump());
+}
+
+Result<std::vector<ImageMarks>> TargetMarksOf(const nlohmann::json& fields) {
+  return ParseTargetMarks(
+      nlohmann::json{{"marks", fields.value("marks", nlohmann::json())}}.dump());
+}
 
 Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
   if (!body.is_object()) return Error{"the body must be a JSON object"};

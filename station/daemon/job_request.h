@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "processing/io/control_field_file.h"
 #include "station/daemon/job_store.h"
 
 namespace ts::daemon {
@@ -41,5 +42,9 @@ struct JobRequest {
 
 // Errors name the field: "instrument_height_m: must be within (0, 10] m".
 Result<JobRequest> ParseJobRequest(const nlohmann::json& body);
+
+// A calibrate_field request's (or job's) control field and marks, read as their files are.
+Result<ControlField> ControlFieldOf(const nlohmann::json& fields);
+Result<std::vector<ImageMarks>> TargetMarksOf(const nlohmann::json& fields);
 
 }  // namespace ts::daemon

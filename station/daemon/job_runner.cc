@@ -441,10 +441,8 @@ void JobRunner::RunCalibrateJob(const Job& job) {
 void JobRunner::RunCalibrateFieldJob(const Job& job) {
   Record(job.id, JobState::kProcessing);
   // Read as the request was checked (ParseCalibrateField): a job recovered after a restart too.
-  const Result<ControlField> field =
-      ParseControlField(nlohmann::json{{"control_field", job.parameters["control_field"]}}.dump());
-  const Result<std::vector<ImageMarks>> marks =
-      ParseTargetMarks(nlohmann::json{{"marks", job.parameters["marks"]}}.dump());
+  const Result<ControlField> field = ControlFieldOf(job.parameters);
+  const Result<std::vector<ImageMarks>> marks = TargetMarksOf(job.parameters);
   if (!field || !marks)
     return Record(job.id, JobState::kFailed, nullptr, !field ? field.error() : marks.error());
   const std::string out =
