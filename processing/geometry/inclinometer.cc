@@ -43,8 +43,8 @@ std::optional<LevellingFit> FitLevelling(const std::vector<InclinometerReading>&
   std::vector<double> pans;
   for (const InclinometerReading& r : readings) pans.push_back(r.pan_deg);
   if (LargestPanGap(pans) > 300.0) return std::nullopt;
-  // Unknowns: levelling x, y and index error x, y. Gauss-Newton on the exact model, from the
-  // mean reading as the levelling (small angles: a step or two).
+  // Unknowns: levelling x, y and index error x, y. Gauss-Newton on the exact model from zero
+  // (small angles: nearly linear, a step or two).
   Eigen::Vector4d x = Eigen::Vector4d::Zero();
   const int n = static_cast<int>(readings.size());
   Eigen::MatrixXd a(2 * n, 4);
@@ -80,7 +80,6 @@ std::optional<LevellingFit> FitLevelling(const std::vector<InclinometerReading>&
   fit.levelling_deg = x.head<2>();
   fit.index_error_deg = x.tail<2>();
   fit.levelling_sigma_deg = sigma * std::sqrt(std::max(cofactor(0, 0), cofactor(1, 1)));
-  fit.residual_rms_deg = std::sqrt(residual.squaredNorm() / (2 * n));
   return fit;
 }
 

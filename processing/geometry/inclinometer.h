@@ -31,7 +31,6 @@ struct LevellingFit {
   Eigen::Vector2d levelling_deg = Eigen::Vector2d::Zero();
   Eigen::Vector2d index_error_deg = Eigen::Vector2d::Zero();
   double levelling_sigma_deg = 0.0;  // per axis, the larger of the two
-  double residual_rms_deg = 0.0;
 };
 
 // The levelling and the index error from readings at several pans (least squares, the model

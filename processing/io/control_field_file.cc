@@ -69,16 +69,7 @@ auto ReadYaml(const std::function<YAML::Node()>& load, const std::string& name, 
     return read(YamlMap(load(), ""));
   } catch (const ConfigError& e) {
     return Error{name.empty() ? std::string(e.what()) : name + ": " + e.what()};
-  } catch (const YAML::Exception& e) {  // a syntax error in text
-    return Error{"line " + std::to_string(e.mark.line + 1) + ", column " +
-                 std::to_string(e.mark.column + 1) + ": " + e.msg};
   }
-}
-
-YAML::Node LoadText(const std::string& text) {
-  YAML::Node root = YAML::Load(text);
-  if (!root || !root.IsMap()) throw ConfigError("must be a map");
-  return root;
 }
 
 }  // namespace
@@ -88,7 +79,7 @@ Result<ControlField> LoadControlField(const std::string& file) {
 }
 
 Result<ControlField> ParseControlField(const std::string& text) {
-  return ReadYaml([&] { return LoadText(text); }, "", ControlFieldOf);
+  return ReadYaml([&] { return LoadYamlText(text); }, "", ControlFieldOf);
 }
 
 Status SaveControlField(const ControlField& field, const std::string& file) {
@@ -112,7 +103,7 @@ Result<std::vector<ImageMarks>> LoadTargetMarks(const std::string& file) {
 }
 
 Result<std::vector<ImageMarks>> ParseTargetMarks(const std::string& text) {
-  return ReadYaml([&] { return LoadText(text); }, "", MarksOf);
+  return ReadYaml([&] { return LoadYamlText(text); }, "", MarksOf);
 }
 
 Status SaveTargetMarks(const std::vector<ImageMarks>& marks, const std::string& file) {

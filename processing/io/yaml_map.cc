@@ -137,6 +137,15 @@ void YamlMap::RejectKeysOtherThan(std::initializer_list<const char*> known) cons
   }
 }
 
+namespace {
+
+ConfigError SyntaxError(const YAML::ParserException& e) {
+  return ConfigError("line " + std::to_string(e.mark.line + 1) + ", column " +
+                     std::to_string(e.mark.column + 1) + ": " + e.msg);
+}
+
+}  // namespace
+
 YAML::Node LoadYamlFile(const std::string& file) {
   if (!std::filesystem::is_regular_file(file)) throw ConfigError("cannot read file");
   try {
@@ -144,10 +153,17 @@ YAML::Node LoadYamlFile(const std::string& file) {
     if (!root || root.IsNull()) throw ConfigError("file is empty");
     return root;
   } catch (const YAML::ParserException& e) {
-    throw ConfigError("line " + std::to_string(e.mark.line + 1) + ", column " +
-                      std::to_string(e.mark.column + 1) + ": " + e.msg);
+    throw SyntaxError(e);
   } catch (const YAML::BadFile&) {
     throw ConfigError("cannot read file");
+  }
+}
+
+YAML::Node LoadYamlText(const std::string& text) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw SyntaxError(e);
   }
 }
 

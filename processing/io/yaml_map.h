@@ -61,5 +61,7 @@ class YamlMap {
 
 // Loads a YAML file; throws ConfigError "line L, column C: ..." on a syntax error.
 YAML::Node LoadYamlFile(const std::string& file);
+// The same for text (a request's body).
+YAML::Node LoadYamlText(const std::string& text);
 
 }  // namespace ts

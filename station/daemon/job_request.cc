@@ -74,6 +74,16 @@ Status CheckGcps(const nlohmann::json& list) {
   return {};
 }
 
+// The request as the job keeps it: its fields less the kind.
+JobRequest RequestOf(JobKind kind, const std::string& station, const nlohmann::json& body) {
+  JobRequest r;
+  r.kind = kind;
+  r.station = station;
+  r.fields = body;
+  r.fields.erase("kind");
+  return r;
+}
+
 constexpr size_t kMaxCalibrationStations = 20;
 
 Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
@@ -84,16 +94,14 @@ Result<JobRequest> ParseCalibrateRig(const nlohmann::json& body) {
   const nlohmann::json& list = body.value("stations", nlohmann::json());
   if (!list.is_array() || list.empty() || list.size() > kMaxCalibrationStations)
     return Error{"stations: must be a list of 1-20 station ids"};
-  JobRequest r;
-  r.kind = JobKind::kCalibrateRig;
+  std::vector<std::string> stations;
   for (size_t i = 0; i < list.size(); ++i) {
     if (!list[i].is_string() || !IsStationId(list[i].get<std::string>()))
       return Error{"stations[" + std::to_string(i) + "]: must be 1-64 letters, digits, '_' or '-'"};
-    r.stations.push_back(list[i].get<std::string>());
+    stations.push_back(list[i].get<std::string>());
   }
-  r.station = r.stations.front();
-  r.fields = body;
-  r.fields.erase("kind");
+  JobRequest r = RequestOf(JobKind::kCalibrateRig, stations.front(), body);
+  r.stations = std::move(stations);
   return r;
 }
 
@@ -121,12 +129,7 @@ Result<JobRequest> ParseRetake(const nlohmann::json& body) {
                      CheckNumber(poses[i], path, "tilt_deg", -32, 32, true)})
       if (!s) return Error{s.error()};
   }
-  JobRequest r;
-  r.kind = JobKind::kRetake;
-  r.station = body["station"].get<std::string>();
-  r.fields = body;
-  r.fields.erase("kind");
-  return r;
+  return RequestOf(JobKind::kRetake, body["station"].get<std::string>(), body);
 }
 
 Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
@@ -141,13 +144,8 @@ Result<JobRequest> ParseCaptureField(const nlohmann::json& body) {
         CheckNumber(body, "", "field_pans", 1, 36, false),
         CheckNumber(body, "", "field_tilts", 1, 9, false)})
     if (!s) return Error{s.error()};
-  JobRequest r;
-  r.kind = JobKind::kCaptureField;
   if (Status s = CheckStation(body); !s) return Error{s.error()};
-  r.station = body["station"].get<std::string>();
-  r.fields = body;
-  r.fields.erase("kind");
-  return r;
+  return RequestOf(JobKind::kCaptureField, body["station"].get<std::string>(), body);
 }
 
 // A control field session's calibration: the session a capture_field job took, the field's
@@ -171,12 +169,7 @@ Result<JobRequest> ParseCalibrateField(const nlohmann::json& body) {
       if (field->IndexOf((*marks)[i].marks[k].id) < 0)
         return Error{"marks[" + std::to_string(i) + "].targets[" + std::to_string(k) + "].id: " +
                      std::to_string((*marks)[i].marks[k].id) + " is not a target of control_field"};
-  JobRequest r;
-  r.kind = JobKind::kCalibrateField;
-  r.station = body["session"].get<std::string>();
-  r.fields = body;
-  r.fields.erase("kind");
-  return r;
+  return RequestOf(JobKind::kCalibrateField, body["session"].get<std::string>(), body);
 }
 
 }  // namespace
@@ -202,17 +195,16 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
                             "gnss", "gcps", "single_row", "required_sigma_mgal"});
       !s)
     return Error{s.error()};
-  JobRequest r;
   if (!body.contains("kind") || !body["kind"].is_string() ||
       !JobKindFromName(body["kind"].get<std::string>()))
     return Error{
         "kind: must be survey, capture, process, retake, calibrate_rig, capture_field or "
         "calibrate_field"};
-  r.kind = *JobKindFromName(body["kind"].get<std::string>());
+  const JobKind kind = *JobKindFromName(body["kind"].get<std::string>());
   if (Status s = CheckStation(body); !s) return Error{s.error()};
   if (Status s = CheckNumber(body, "", "required_sigma_mgal", 0.0001, 10, false); !s)
     return Error{s.error()};
-  r.station = body["station"].get<std::string>();
+  JobRequest r = RequestOf(kind, body["station"].get<std::string>(), body);
   for (const char* key : {"line", "operator", "notes"})
     if (Status s = CheckText(body, key); !s) return Error{s.error()};
   if (UsesRig(r.kind)) {
@@ -228,8 +220,6 @@ Result<JobRequest> ParseJobRequest(const nlohmann::json& body) {
     if (Status s = CheckGcps(body["gcps"]); !s) return Error{s.error()};
   if (Status s = CheckBoolean(body, "single_row"); !s) return Error{s.error()};
   r.single_row = body.value("single_row", r.single_row);
-  r.fields = body;
-  r.fields.erase("kind");
   return r;
 }
 
