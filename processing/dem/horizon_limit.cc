@@ -44,15 +44,34 @@ class Horizons {
       const double run = std::hypot(d.x(), d.y());
       if (!(run > 0.5)) continue;
       bins_[BinOf(std::atan2(d.y(), d.x()))].push_back(
-          {static_cast<float>(run), static_cast<float>(d.z() / run), setter[i]});
+          {static_cast<float>(run), static_cast<float>(d.z() / run),
+           static_cast<float>(d.z() / run), setter[i]});
     }
     for (std::vector<Sight>& bin : bins_) {
       std::sort(bin.begin(), bin.end(),
                 [](const Sight& a, const Sight& b) { return a.distance < b.distance; });
+      for (size_t k = bin.size(); k-- > 1;)
+        bin[k - 1].lowest_beyond = std::min(bin[k - 1].lowest_beyond, bin[k].lowest_beyond);
       for (size_t k = 1; k < bin.size(); ++k)
         if (bin[k - 1].slope >= bin[k].slope)
           bin[k].slope = bin[k - 1].slope, bin[k].setter = bin[k - 1].setter;
     }
+  }
+
+  // The lowest line of sight to a point farther than `distance`, within +-half bins of the
+  // azimuth: it passed over everything nearer; false when there is none.
+  bool LowestBeyond(double azimuth, double distance, int half, double* slope) const {
+    const int centre = BinOf(azimuth);
+    bool found = false;
+    for (int k = -half; k <= half; ++k) {
+      const std::vector<Sight>& bin = bins_[((centre + k) % kBins + kBins) % kBins];
+      const auto beyond = std::upper_bound(bin.begin(), bin.end(), distance,
+                                           [](double d, const Sight& s) { return d < s.distance; });
+      if (beyond == bin.end()) continue;
+      if (!found || beyond->lowest_beyond < *slope) *slope = beyond->lowest_beyond;
+      found = true;
+    }
+    return found;
   }
 
   // The highest line of sight to a point nearer than `distance`, within +-half bins of the
@@ -75,7 +94,8 @@ class Horizons {
  private:
   struct Sight {
     float distance;
-    float slope;  // highest so far, from here
+    float slope;          // highest so far, from here
+    float lowest_beyond;  // lowest from here on, outwards
     Setter setter;
   };
   std::vector<std::vector<Sight>> bins_;
@@ -133,6 +153,15 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
     double slope = 0.0;
     if (!from.Highest(std::atan2(dy, dx), run - 0.5 * dem->cell_m, half, &slope, setter))
       return false;
+    *height = viewpoint.z() + run * slope;
+    return true;
+  };
+  // The lowest line over the cell centre to a point a cell or more beyond it: its height there;
+  // false when nothing was seen beyond.
+  auto line_beyond = [&](double x, double y, double* height) {
+    const double dx = x - viewpoint.x(), dy = y - viewpoint.y(), run = std::hypot(dx, dy);
+    double slope = 0.0;
+    if (!horizons.LowestBeyond(std::atan2(dy, dx), run + dem->cell_m, half, &slope)) return false;
     *height = viewpoint.z() + run * slope;
     return true;
   };
@@ -200,14 +229,18 @@ HorizonLimitResult LimitToHorizon(const std::vector<Eigen::Vector3d>& points,
           }
           continue;
         }
-        if (directions.size() < 3 || LargestAngularGap(std::move(directions)) <= M_PI) continue;
-        if (!has_horizon || setter == Setter::kObject || z <= horizon + o.tolerance_m) continue;
-        count.lowering_m += z - horizon;
-        // Lowered on the premise that ground seen is ground matched: the kriged height stays
-        // possible (seen, not matched), so the std spans it.
+        if (LargestAngularGap(std::move(directions)) <= M_PI) continue;
+        // The bound: a line of sight that passed over the cell to farther ground, if any (seen
+        // ground that went unmatched lies below it, above the horizon); else the horizon.
+        double bound = horizon;
+        if (!line_beyond(x, y, &bound) && (!has_horizon || setter == Setter::kObject)) continue;
+        if (z <= bound + o.tolerance_m) continue;
+        count.lowering_m += z - bound;
+        // Lowered to the horizon on the premise that ground seen is ground matched: the kriged
+        // height stays possible (seen, not matched), so the std spans it.
         if (std && !Raster::IsNoData(std->at(row, col)))
-          std->at(row, col) = static_cast<float>(std::hypot(std->at(row, col), z - horizon));
-        z = static_cast<float>(horizon);
+          std->at(row, col) = static_cast<float>(std::hypot(std->at(row, col), z - bound));
+        z = static_cast<float>(bound);
         ++count.lowered;
       }
   });

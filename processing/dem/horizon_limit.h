@@ -9,15 +9,18 @@
 //
 // So a DEM cell that was not seen (no ground point within near_m) and lies beyond the edge of
 // the seen ground (the ground points within edge_m all on one side of it: an angular gap over
-// 180 degrees) is lowered to the horizon when it stands above it by more than tolerance_m. The
-// horizon of a cell is the highest line of sight, from the viewpoint, to a point in front of it
-// (nearer than it, within +-bin_half_width_deg of its azimuth). A horizon set by an object (a
-// point standing min_object_height_m above the DEM) does not count: ground hidden behind a tree
-// continues the ground around it and may rise above the line of sight over the tree's lowest
-// seen part. One set by a point on the terrain counts, ground or not: the crest of a dike or
-// an embankment is convex ground the ground filter often leaves out, and it is what hides the
-// hollow behind. Cells between seen ground and cells with ground near them are left to
-// kriging.
+// 180 degrees, as one or two of them always are) is lowered to its bound when it stands above
+// it by more than tolerance_m. Where something was seen beyond the cell (a point a cell or more
+// farther, within +-bin_half_width_deg of its azimuth), the bound is the lowest line of sight to
+// it: that line passed over the cell, and ground seen there and not matched lies between it and
+// the horizon. Where nothing was, the bound is the horizon: the highest line of sight, from the
+// viewpoint, to a point in front of the cell (nearer than it, in the same azimuths). A horizon
+// set by an object (a point standing min_object_height_m above the DEM) does not count: ground
+// hidden behind a tree continues the ground around it and may rise above the line of sight
+// over the tree's lowest seen part. One set by a point on the terrain counts, ground or not:
+// the crest of a dike or an embankment is convex ground the ground filter often leaves out,
+// and it is what hides the hollow behind. Cells between seen ground and cells with ground near
+// them are left to kriging.
 //
 // Ground hidden by an object is the other case: a bush or a grove hides ground that goes on
 // beneath and behind it, at the level of the ground around it, so kriging may reach farther
@@ -29,8 +32,9 @@
 // such cell becomes nodata. Its kriging standard deviation says how far it reached.
 //
 // The horizon comes from the points that were matched: where seen ground went unmatched it
-// lies too low, which is why only extrapolated cells are lowered, and why a lowered cell's std
-// (when given) spans the height it was lowered from: ground seen and not matched stands there.
+// lies too low, which is why only extrapolated cells are lowered, why a line to farther ground
+// comes first, and why a lowered cell's std (when given) spans the height it was lowered from:
+// ground seen and not matched stands there.
 //
 // The cells the DEM is left without get their horizon too (HorizonLimitResult::horizon): the
 // terrain correction estimates every cell of the square, and ground nobody saw behind a brow

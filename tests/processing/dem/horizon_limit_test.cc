@@ -107,6 +107,53 @@ TEST(HorizonLimit, ABrowLeftOutByTheGroundFilterStillHidesTheHollow) {
   EXPECT_GE(result.cells_lowered, lowered);
 }
 
+// An embankment's top at eye level, seen only here and there: a few points on the crest, and
+// nothing within edge_m of the hollow behind but them. One or two directions to seen ground are
+// on one side of a cell by definition: it lies beyond the edge all the same.
+TEST(HorizonLimit, AFewPointsOnTheBrowStillHideTheHollow) {
+  HorizonScene s;
+  s.Ring(2.0, 6.0, true, Rise);
+  for (double az = -3.0; az <= 3.0; az += 0.25)
+    for (const double d : {9.75, 10.0}) {
+      const double a = az * M_PI / 180.0;
+      s.points.emplace_back(d * std::cos(a), d * std::sin(a), Rise(d));
+      s.ground.push_back(1);
+    }
+  Raster dem = Extrapolated();
+  LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem);
+  for (const double x : {14.5, 15.5})
+    for (const double y : {-0.5, 0.5}) {
+      int row = 0, col = 0;
+      ASSERT_TRUE(dem.CellOf(x, y, &row, &col));
+      EXPECT_NEAR(dem.at(row, col), 1.5 - 0.05 * std::hypot(x, y), 1e-4) << x << " " << y;
+    }
+}
+
+// Ground seen beyond the hollow, well above the line over the brow: what lies between was in
+// view and went unmatched, not hidden. The lowest line of sight to that farther ground passed
+// over the cells and bounds them, not the brow's horizon.
+TEST(HorizonLimit, GroundSeenBeyondBoundsTheCellsByTheLineToIt) {
+  HorizonScene s;
+  s.Ring(2.0, 10.0, true, Rise);
+  s.Ring(25.0, 30.0, true, [](double) { return 0.5; });  // 1.0 below the eye: lowest at 25 m
+  Raster dem = Extrapolated();
+  LimitToHorizon(s.points, s.ground, kStationEye, {}, &dem);
+  int bounded = 0;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      const double d = std::hypot(dem.CellCentreX(c), dem.CellCentreY(r));
+      const double line = 1.5 - d / 25.0;
+      if (d < 12.0 || d > 16.0) continue;
+      if (Rise(d) > line + 0.2) {
+        EXPECT_NEAR(dem.at(r, c), line, 1e-4) << d << " m: the line over it, not the horizon";
+        ++bounded;
+      } else {
+        EXPECT_FLOAT_EQ(dem.at(r, c), Rise(d)) << d << " m: below the line, left alone";
+      }
+    }
+  EXPECT_GT(bounded, 5);
+}
+
 TEST(HorizonLimit, LeavesGroundBetweenSeenGroundAndBehindObjects) {
   HorizonScene between;  // the far side of the hollow is seen too: the hollow is interpolated
   between.Ring(2.0, 10.0, true, Rise);
