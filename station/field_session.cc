@@ -83,4 +83,23 @@ std::vector<FieldImage> LoadFieldImages(const std::vector<std::string>& files,
   return images;
 }
 
+FieldSessionInputs SimulatedFieldSession(const std::string& dir) {
+  return {dir,
+          dir + "/left/*.png",
+          dir + "/right/*.png",
+          dir + "/field.yaml",
+          dir + "/marks.yaml",
+          dir + "/design.yaml"};
+}
+
+std::vector<std::vector<std::string>> FieldCalibrationCommands(const FieldSessionInputs& session,
+                                                               const std::string& cameras,
+                                                               const std::string& out) {
+  return {{"calibrate", "stereo", "--left", session.left_images, "--right", session.right_images,
+           "--control-field", session.field, "--marks", session.marks, "--start", session.design,
+           "--stage-from", session.design, "--out", cameras},
+          {"calibrate", "rig", "--field-session", session.dir, "--control-field", session.field,
+           "--marks", session.marks, "--calibration", cameras, "--out", out}};
+}
+
 }  // namespace ts

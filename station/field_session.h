@@ -28,4 +28,22 @@ std::vector<FieldImage> LoadFieldImages(const std::vector<std::string>& files,
                                         const CameraIntrinsics& camera,
                                         const std::string& camera_source);
 
+// A control field session's files as the calibration commands take them: image globs (the
+// commands expand them), the field, the hand marks and the design calibration to start from.
+struct FieldSessionInputs {
+  std::string dir, left_images, right_images, field, marks, design;
+};
+// `sim render --calibration field`'s session (sim::WriteFieldSession): left/, right/,
+// field.yaml, marks.yaml, design.yaml.
+FieldSessionInputs SimulatedFieldSession(const std::string& dir);
+
+// The field team's calibration of a session, as `topostation` arguments (the program left
+// out): `calibrate stereo` on its images from the design values (the stage's too) into
+// `cameras`, then `calibrate rig --field-session` on the same session from `cameras` into
+// `out`: the targets fix where each camera stands at each pose, which places the cameras over
+// the tilt axis where no station's panorama can.
+std::vector<std::vector<std::string>> FieldCalibrationCommands(const FieldSessionInputs& session,
+                                                               const std::string& cameras,
+                                                               const std::string& out);
+
 }  // namespace ts

@@ -24,6 +24,7 @@
 #include "sim/truth.h"
 #include "station/child_process.h"
 #include "station/commands.h"
+#include "station/field_session.h"
 #include "station/option_flags.h"
 #include "station/private_network.h"
 #include "station/sim_station_options.h"
@@ -72,15 +73,9 @@ std::string CalibrateAtAField(const sim::SimStation& station, const std::string&
                                         truth_dir + "/calibration-session");
       !s)
     throw CommandError(s.error());
-  RunSelf({"calibrate", "stereo", "--left", session + "/left/*.png", "--right",
-           session + "/right/*.png", "--control-field", session + "/field.yaml", "--marks",
-           session + "/marks.yaml", "--start", session + "/design.yaml", "--stage-from",
-           session + "/design.yaml", "--out", cameras},
-          dir + "/calibrate.log");
-  RunSelf(
-      {"calibrate", "rig", "--field-session", session, "--control-field", session + "/field.yaml",
-       "--marks", session + "/marks.yaml", "--calibration", cameras, "--out", out},
-      dir + "/calibrate-rig.log");
+  const auto commands = FieldCalibrationCommands(SimulatedFieldSession(session), cameras, out);
+  RunSelf(commands[0], dir + "/calibrate.log");
+  RunSelf(commands[1], dir + "/calibrate-rig.log");
   return out;
 }
 

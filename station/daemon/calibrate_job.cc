@@ -10,6 +10,7 @@
 
 #include "processing/io/calibration_yaml.h"
 #include "station/child_process.h"
+#include "station/field_session.h"
 
 namespace ts::daemon {
 namespace {
@@ -85,26 +86,22 @@ Result<nlohmann::json> CalibrateFieldInChild(const std::string& session_dir, int
   const std::string marks_yaml = session_dir + "/marks-job-" + n + ".yaml";
   if (Status s = SaveControlField(field, field_yaml); !s) return Error{s.error()};
   if (Status s = SaveTargetMarks(marks, marks_yaml); !s) return Error{s.error()};
-  // The cameras first (the globs are the command's own, not a shell's), then the stage on the
-  // same session: the targets fix where each camera stands at each pose, which places the
-  // cameras over the tilt axis where no station's panorama can.
-  const std::string design = session_dir + "/design.yaml";
+  // The cameras, then the stage on the same session (the globs are the commands' own).
   const std::string cameras_yaml = out_yaml + ".cameras.yaml";
-  std::vector<std::string> stereo = {Topostation(), "calibrate", "stereo", "--left",
-                                     session_dir + "/raw/*_left.png"};
-  stereo.insert(stereo.end(), {"--right", session_dir + "/raw/*_right.png", "--control-field",
-                               field_yaml, "--marks", marks_yaml});
-  stereo.insert(stereo.end(),
-                {"--start", design, "--stage-from", design, "--out", cameras_yaml, "--json"});
+  const FieldSessionInputs session = {
+      session_dir, session_dir + "/raw/*_left.png", session_dir + "/raw/*_right.png", field_yaml,
+      marks_yaml,  session_dir + "/design.yaml"};
+  std::vector<std::vector<std::string>> commands =
+      FieldCalibrationCommands(session, cameras_yaml, out_yaml);
+  for (std::vector<std::string>& c : commands) {
+    c.insert(c.begin(), Topostation());
+    c.push_back("--json");
+  }
   Result<nlohmann::json> report =
-      RunWithJsonReport("calibrate stereo", stereo, cameras_yaml + ".log", should_stop);
+      RunWithJsonReport("calibrate stereo", commands[0], cameras_yaml + ".log", should_stop);
   if (!report) return report;
-  std::vector<std::string> rig = {Topostation(), "calibrate", "rig", "--field-session",
-                                  session_dir};
-  rig.insert(rig.end(), {"--control-field", field_yaml, "--marks", marks_yaml, "--calibration",
-                         cameras_yaml, "--out", out_yaml, "--json"});
   Result<nlohmann::json> stage =
-      RunWithJsonReport("calibrate rig", rig, out_yaml + ".log", should_stop);
+      RunWithJsonReport("calibrate rig", commands[1], out_yaml + ".log", should_stop);
   if (!stage) return stage;
   (*report)["stage"] = std::move(*stage);
   return report;

@@ -43,6 +43,7 @@
 #include "processing/pipeline/process_station.h"
 #include "sim/calibration_field.h"
 #include "sim/sim_station.h"
+#include "station/field_session.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/sight_line_bound.h"
 #include "tests/common/isprs_sample.h"
@@ -136,12 +137,12 @@ void EstimatedCalibration(const std::string& scene, const sim::SimStation& stati
                     cal = dir / "calibration.yaml";
   if (!sim::WriteFieldSession(station.rig, station.scene.seed, {}, session, dir / "session-truth"))
     std::exit(1);
-  Run("calibrate stereo --left '" + session + "/left/*.png' --right '" + session +
-      "/right/*.png' --control-field " + session + "/field.yaml --marks " + session +
-      "/marks.yaml --start " + session + "/design.yaml --stage-from " + session +
-      "/design.yaml --out " + cameras);
-  Run("calibrate rig --field-session " + session + " --control-field " + session +
-      "/field.yaml --marks " + session + "/marks.yaml --calibration " + cameras + " --out " + cal);
+  for (const std::vector<std::string>& command :
+       FieldCalibrationCommands(SimulatedFieldSession(session), cameras, cal)) {
+    std::string line;  // quoted: the globs are the command's own, not the shell's
+    for (const std::string& arg : command) line += (line.empty() ? "'" : " '") + arg + "'";
+    Run(line);
+  }
   const std::string copy = dir / "station";
   std::filesystem::copy(station_dir, copy, std::filesystem::copy_options::recursive);
   std::filesystem::remove_all(copy + "/products");
