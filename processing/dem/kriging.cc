@@ -223,10 +223,11 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
   });
 }
 
-std::vector<double> BlockCrossValidationErrors(const KrigingPoints& points,
-                                               const std::vector<VariogramModel>& models,
-                                               const KrigingOptions& o) {
-  const std::vector<double> none(models.size(), std::numeric_limits<double>::quiet_NaN());
+std::vector<CrossValidationScore> BlockCrossValidationErrors(
+    const KrigingPoints& points, const std::vector<VariogramModel>& models,
+    const KrigingOptions& o) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<CrossValidationScore> none(models.size(), {kNaN, kNaN});
   // The held-out blocks: a seeded random choice of the squares with points.
   const GridIndex blocks(points.positions, o.cross_validation_block_m);
   std::vector<std::pair<int, int>> occupied;
@@ -261,34 +262,47 @@ std::vector<double> BlockCrossValidationErrors(const KrigingPoints& points,
   std::vector<std::vector<double>> nuggets;
   for (const VariogramModel& m : models) nuggets.push_back(NuggetsOf(training, m));
   const GridIndex grid(all, std::max(0.5, o.max_distance_m / 2));
-  // Squared errors per predicted point and model; a point none predicts is left out of all.
+  const std::vector<double> own_variance = NuggetsOf(points, VariogramModel{});
+  // Squared errors and predicted variances per point and model; a point some model does not
+  // predict is left out of all.
   const size_t kinds = models.size();
-  std::vector<double> error2(predicted_points.size() * kinds,
-                             std::numeric_limits<double>::quiet_NaN());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(predicted_points.size())),
-                    [&](const cv::Range& range) {
-                      std::vector<Candidate> near;
-                      for (int k = range.start; k < range.end; ++k) {
-                        const Eigen::Vector3d& p = points.positions[predicted_points[k]];
-                        for (size_t m = 0; m < kinds; ++m) {
-                          const std::optional<Estimate> e =
-                              KrigeAt(grid, all, nuggets[m], models[m], o, p.x(), p.y(), &near);
-                          if (e) error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
-                        }
-                      }
-                    });
-  std::vector<double> sum2(kinds, 0.0);
+  std::vector<double> error2(predicted_points.size() * kinds, kNaN);
+  std::vector<double> variance(predicted_points.size() * kinds, kNaN);
+  cv::parallel_for_(
+      cv::Range(0, static_cast<int>(predicted_points.size())), [&](const cv::Range& range) {
+        std::vector<Candidate> near;
+        for (int k = range.start; k < range.end; ++k) {
+          const Eigen::Vector3d& p = points.positions[predicted_points[k]];
+          for (size_t m = 0; m < kinds; ++m) {
+            const std::optional<Estimate> e =
+                KrigeAt(grid, all, nuggets[m], models[m], o, p.x(), p.y(), &near);
+            if (!e) continue;
+            error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
+            // The point's own noise: the larger of the model's nugget and its variance, as
+            // kriging weighs it.
+            variance[k * kinds + m] =
+                e->variance + std::max(models[m].nugget, own_variance[predicted_points[k]]);
+          }
+        }
+      });
+  std::vector<double> sum2(kinds, 0.0), sum_score(kinds, 0.0);
   int predicted = 0;
   for (size_t k = 0; k < predicted_points.size(); ++k) {
     const double* e2 = &error2[k * kinds];
     if (!std::all_of(e2, e2 + kinds, [](double v) { return std::isfinite(v); })) continue;
-    for (size_t m = 0; m < kinds; ++m) sum2[m] += e2[m];
+    for (size_t m = 0; m < kinds; ++m) {
+      // Floored: a point without noise predicted exactly has no score.
+      const double v = std::max(variance[k * kinds + m], 1e-12);
+      sum2[m] += e2[m];
+      sum_score[m] += e2[m] / v + std::log(v);
+    }
     ++predicted;
   }
   if (predicted == 0) return none;
-  std::vector<double> rms(kinds);
-  for (size_t m = 0; m < kinds; ++m) rms[m] = std::sqrt(sum2[m] / predicted);
-  return rms;
+  std::vector<CrossValidationScore> scores(kinds);
+  for (size_t m = 0; m < kinds; ++m)
+    scores[m] = {std::sqrt(sum2[m] / predicted), sum_score[m] / predicted};
+  return scores;
 }
 
 KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const KrigingOptions& o) {
@@ -301,18 +315,19 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   // With a drift, the variogram is the residual's (universal kriging): the trend's own rise,
   // a slope's s^2 h^2 / 2, is what the drift takes out; left in, it overstates the std.
   result.experimental = ComputeExperimentalVariogram(
-      o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram);
+      o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram,
+      o.signal_variogram ? thinned.height_variances_m2 : std::vector<double>{});
   // The kind of variogram that predicts held-out ground best: the fits differ most in how they
   // bridge gaps, which their fit to the variogram's bins does not show.
   const std::vector<VariogramModel> fits = FitVariogramOfEachKind(result.experimental);
   result.model = BestFit(fits);
   if (o.cross_validation_blocks > 0) {
-    const std::vector<double> errors = BlockCrossValidationErrors(thinned, fits, o);
+    const std::vector<CrossValidationScore> scores = BlockCrossValidationErrors(thinned, fits, o);
     double best = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < fits.size(); ++k) {
-      if (!std::isfinite(errors[k])) continue;  // too few points to hold any out
-      result.cross_validation.push_back({fits[k], errors[k]});
-      if (errors[k] < best) best = errors[k], result.model = fits[k];
+      if (!std::isfinite(scores[k].log_score)) continue;  // too few points to hold any out
+      result.cross_validation.push_back({fits[k], scores[k].rms_m, scores[k].log_score});
+      if (scores[k].log_score < best) best = scores[k].log_score, result.model = fits[k];
     }
   }
   result.dem = grid;

@@ -25,9 +25,13 @@ bool VariogramOptions::Check(std::string* why) const {
 }
 
 ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
-                                                   const VariogramOptions& o) {
+                                                   const VariogramOptions& o,
+                                                   const std::vector<double>& noise) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("VariogramOptions: " + why);
+  if (!noise.empty() && noise.size() != points.size())
+    throw std::invalid_argument(
+        "ComputeExperimentalVariogram: one noise variance per point, or none");
   std::vector<int> sample(points.size());
   std::iota(sample.begin(), sample.end(), 0);
   if (static_cast<int>(sample.size()) > o.max_points) {
@@ -40,8 +44,10 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
       o.short_lag_m > 0.0 ? static_cast<int>(std::ceil(o.short_lag_m / o.short_bin_m - 1e-9)) : 0;
   const int bins =
       short_bins + static_cast<int>(std::ceil((o.max_lag_m - o.short_lag_m) / o.bin_m - 1e-9));
-  std::vector<double> sum_h(bins, 0.0), sum_sq(bins, 0.0), count(bins, 0.0);
-  auto add = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q, double h) {
+  std::vector<double> sum_h(bins, 0.0), sum_sq(bins, 0.0), sum_noise(bins, 0.0), count(bins, 0.0);
+  auto add = [&](int i, int j, double h) {
+    const Eigen::Vector3d& p = points[i];
+    const Eigen::Vector3d& q = points[j];
     if (!(h < o.max_lag_m) || h == 0.0) return;
     const int bin =
         h < o.short_lag_m
@@ -49,6 +55,7 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
             : std::min(bins - 1, short_bins + static_cast<int>((h - o.short_lag_m) / o.bin_m));
     sum_h[bin] += h;
     sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
+    if (!noise.empty()) sum_noise[bin] += 0.5 * (noise[i] + noise[j]);
     count[bin] += 1.0;
   };
   for (size_t a = 0; a < sample.size(); ++a)
@@ -59,7 +66,7 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
       // millions of times.
       const double dx = p.x() - q.x(), dy = p.y() - q.y();
       const double h = std::sqrt(dx * dx + dy * dy);
-      if (h >= o.short_lag_m) add(p, q, h);
+      if (h >= o.short_lag_m) add(sample[a], sample[b], h);
     }
   if (short_bins > 0 && !points.empty()) {
     const GridIndex grid(points, o.short_lag_m);
@@ -71,7 +78,7 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
           if (!grid.Inside(c, r)) continue;
           for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
             const double h = std::hypot(points[*i].x() - p.x(), points[*i].y() - p.y());
-            if (*i != a && h < o.short_lag_m) add(p, points[*i], h);
+            if (*i != a && h < o.short_lag_m) add(a, *i, h);
           }
         }
     }
@@ -80,7 +87,8 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
   for (int i = 0; i < bins; ++i) {
     if (count[i] < 1.0) continue;
     v.lag_m.push_back(sum_h[i] / count[i]);
-    v.gamma.push_back(0.5 * sum_sq[i] / count[i]);
+    v.noise.push_back(sum_noise[i] / count[i]);
+    v.gamma.push_back(std::max(0.0, 0.5 * sum_sq[i] / count[i] - v.noise.back()));
     v.pairs.push_back(count[i]);
   }
   return v;
@@ -143,10 +151,13 @@ VariogramModel FitVariogram(const ExperimentalVariogram& e, VariogramKind kind) 
   best.partial_sill = std::max(max_gamma, 1e-12);
   best.range_m = max_lag;
   if (n < 3) return best;
-  // Cressie's weights, with gamma floored so flat bins do not dominate.
+  // Cressie's weights: the pairs over the square of what their squared differences scatter
+  // about (the noise's part too), floored so flat bins do not dominate.
   std::vector<double> w(n);
-  for (size_t i = 0; i < n; ++i)
-    w[i] = e.pairs[i] / std::pow(std::max(e.gamma[i], 1e-6 * max_gamma + 1e-12), 2);
+  for (size_t i = 0; i < n; ++i) {
+    const double scatter = e.gamma[i] + (e.noise.empty() ? 0.0 : e.noise[i]);
+    w[i] = e.pairs[i] / std::pow(std::max(scatter, 1e-6 * max_gamma + 1e-12), 2);
+  }
   const double min_range = 0.2 * (e.lag_m.front() > 0 ? e.lag_m.front() : max_lag / n);
   for (int k = 0; k <= 200; ++k) {
     const double range = min_range * std::pow(5.0 * max_lag / min_range, k / 200.0);

@@ -20,6 +20,9 @@ struct ExperimentalVariogram {
   std::vector<double> lag_m;  // mean distance of the pairs in each bin
   std::vector<double> gamma;  // half the mean squared height difference
   std::vector<double> pairs;  // pairs in the bin
+  // The pairs' mean noise variance taken out of gamma (zero without noise variances): gamma
+  // plus this is what the bin's squared differences scatter about, and weighs its fit.
+  std::vector<double> noise;
 };
 
 struct VariogramOptions {
@@ -46,8 +49,14 @@ struct VariogramOptions {
   bool Check(std::string* why) const;
 };
 
-ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
-                                                   const VariogramOptions& options);
+// noise_variances_m2: empty, or each point's own height variance. Then each pair's squared
+// difference less its two noise variances is what the bins average: the variogram of the
+// surface, not of the points. Kriging puts each point's noise on its own diagonal; left in the
+// variogram too, a flat field's matching noise, correlated over a window's footprint, reads as
+// relief, and the std counts the noise twice.
+ExperimentalVariogram ComputeExperimentalVariogram(
+    const std::vector<Eigen::Vector3d>& points, const VariogramOptions& options,
+    const std::vector<double>& noise_variances_m2 = {});
 
 enum class VariogramKind { kSpherical, kExponential, kGaussian, kMatern32 };
 const char* VariogramKindName(VariogramKind kind);

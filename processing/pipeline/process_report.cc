@@ -71,9 +71,12 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
                          {"nugget_m2", model.nugget},
                          {"partial_sill_m2", model.partial_sill},
                          {"range_m", model.range_m}};
-  for (const KrigingResult::KindTried& k : w.kriged.cross_validation)
+  for (const KrigingResult::KindTried& k : w.kriged.cross_validation) {
     report["variogram"]["cross_validation_rms_m"][VariogramKindName(k.model.kind)] =
         k.cross_validation_rms_m;
+    report["variogram"]["cross_validation_log_score"][VariogramKindName(k.model.kind)] =
+        k.cross_validation_log_score;
+  }
   report["dem"] = {{"cell_m", o.dem_cell_m},
                    {"cells", w.kriged.dem.cols * w.kriged.dem.rows},
                    {"coverage_30m", w.coverage_30m},

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace ts {
 namespace {
@@ -55,6 +56,43 @@ TEST(Variogram, ShortLagsPairTheSampleWithAllItsNeighbours) {
   };
   // 20 sampled points along 40 m: a handful of pairs closer than 1 m among themselves.
   EXPECT_GT(close_pairs(with_short), 10.0 * close_pairs(without));
+}
+
+// Points whose noise differs (near and far ones of a station): each pair's two noise variances
+// come out of its squared difference, and the bins are those of the noise-free surface. Left
+// in, every bin is raised by the pairs' mean noise, which reads as relief at every lag.
+TEST(Variogram, EachPointsOwnNoiseIsTakenOutOfItsPairs) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-30, 30);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto surface = [](double x, double y) { return 0.05 * std::sin(x / 7.0) * std::cos(y / 5.0); };
+  std::vector<Eigen::Vector3d> exact, noisy;
+  std::vector<double> variances;
+  for (int i = 0; i < 3000; ++i) {
+    const double x = u(rng), y = u(rng);
+    const double sigma = 0.002 + 0.0004 * std::hypot(x, y);  // 2 mm at the centre, 19 mm at 42 m
+    exact.emplace_back(x, y, surface(x, y));
+    noisy.emplace_back(x, y, surface(x, y) + sigma * unit(rng));
+    variances.push_back(sigma * sigma);
+  }
+  VariogramOptions o;
+  o.max_points = 3000;
+  const ExperimentalVariogram truth = ComputeExperimentalVariogram(exact, o);
+  const ExperimentalVariogram signal = ComputeExperimentalVariogram(noisy, o, variances);
+  const ExperimentalVariogram raw = ComputeExperimentalVariogram(noisy, o);
+  ASSERT_EQ(signal.gamma.size(), truth.gamma.size());
+  ASSERT_EQ(signal.noise.size(), truth.gamma.size());
+  double mean_noise = 0.0;
+  for (const double v : variances) mean_noise += v / variances.size();
+  for (size_t i = 0; i < truth.gamma.size(); ++i) {
+    // A bin's mean scatters by sqrt(2) (gamma + noise) over the root of its pairs, and more at
+    // short lags, whose pairs share their points.
+    const double slack = 6.0 * (signal.noise[i] + truth.gamma[i]) / std::sqrt(signal.pairs[i]);
+    EXPECT_NEAR(signal.gamma[i], truth.gamma[i], slack + 0.1 * truth.gamma[i])
+        << "lag " << truth.lag_m[i];
+    EXPECT_NEAR(signal.noise[i], mean_noise, 0.5 * mean_noise) << "lag " << truth.lag_m[i];
+    EXPECT_GT(raw.gamma[i], truth.gamma[i] + 0.5 * mean_noise) << "lag " << truth.lag_m[i];
+  }
 }
 
 // A Gaussian model without a nugget is not chosen even where it would fit best.
