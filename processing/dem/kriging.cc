@@ -223,7 +223,7 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
   });
 }
 
-std::vector<CrossValidationScore> BlockCrossValidationErrors(
+std::vector<CrossValidationScore> BlockCrossValidationScores(
     const KrigingPoints& points, const std::vector<VariogramModel>& models,
     const KrigingOptions& o) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -259,10 +259,14 @@ std::vector<CrossValidationScore> BlockCrossValidationErrors(
   }
   const std::vector<Eigen::Vector3d> all = training.All();
   if (all.empty()) return none;
-  std::vector<std::vector<double>> nuggets;
-  for (const VariogramModel& m : models) nuggets.push_back(NuggetsOf(training, m));
+  // Each model's nuggets of the training points, which weigh them, and of all the points, the
+  // noise of a held-out one that its prediction does not know.
+  std::vector<std::vector<double>> nuggets, held_out_nuggets;
+  for (const VariogramModel& m : models) {
+    nuggets.push_back(NuggetsOf(training, m));
+    held_out_nuggets.push_back(NuggetsOf(points, m));
+  }
   const GridIndex grid(all, std::max(0.5, o.max_distance_m / 2));
-  const std::vector<double> own_variance = NuggetsOf(points, VariogramModel{});
   // Squared errors and predicted variances per point and model; a point some model does not
   // predict is left out of all.
   const size_t kinds = models.size();
@@ -278,10 +282,7 @@ std::vector<CrossValidationScore> BlockCrossValidationErrors(
                 KrigeAt(grid, all, nuggets[m], models[m], o, p.x(), p.y(), &near);
             if (!e) continue;
             error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
-            // The point's own noise: the larger of the model's nugget and its variance, as
-            // kriging weighs it.
-            variance[k * kinds + m] =
-                e->variance + std::max(models[m].nugget, own_variance[predicted_points[k]]);
+            variance[k * kinds + m] = e->variance + held_out_nuggets[m][predicted_points[k]];
           }
         }
       });
@@ -317,12 +318,13 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   result.experimental = ComputeExperimentalVariogram(
       o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram,
       o.signal_variogram ? thinned.height_variances_m2 : std::vector<double>{});
-  // The kind of variogram that predicts held-out ground best: the fits differ most in how they
-  // bridge gaps, which their fit to the variogram's bins does not show.
+  // The kind of variogram that predicts held-out ground best, its heights and their std: the
+  // fits differ most in how they bridge gaps, which their fit to the variogram's bins does not
+  // show.
   const std::vector<VariogramModel> fits = FitVariogramOfEachKind(result.experimental);
   result.model = BestFit(fits);
   if (o.cross_validation_blocks > 0) {
-    const std::vector<CrossValidationScore> scores = BlockCrossValidationErrors(thinned, fits, o);
+    const std::vector<CrossValidationScore> scores = BlockCrossValidationScores(thinned, fits, o);
     double best = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < fits.size(); ++k) {
       if (!std::isfinite(scores[k].log_score)) continue;  // too few points to hold any out

@@ -14,7 +14,7 @@
 // point of each thin_cell_m square (the variogram and the neighbourhood then see the terrain,
 // not the sampling).
 // The variogram's kind is the one whose fit best predicts ground held out of the points in
-// blocks (BlockCrossValidationErrors), its height and its std alike: the lowest mean of
+// blocks (BlockCrossValidationScores), its height and its std alike: the lowest mean of
 // e^2 / v + ln v over the held-out points (e the error, v the predicted variance of the point:
 // kriging's plus the point's own noise), the log score of a Gaussian forecast. The kinds' fits
 // to the variogram's bins differ most in how they bridge gaps, which the bins do not show. The
@@ -129,7 +129,7 @@ struct CrossValidationScore {
   double rms_m = 0.0;      // RMS error
   double log_score = 0.0;  // mean of e^2 / v + ln v (v in m^2): lower is better
 };
-std::vector<CrossValidationScore> BlockCrossValidationErrors(
+std::vector<CrossValidationScore> BlockCrossValidationScores(
     const KrigingPoints& points, const std::vector<VariogramModel>& models,
     const KrigingOptions& options);
 

@@ -18,7 +18,7 @@ namespace ts {
 
 struct ExperimentalVariogram {
   std::vector<double> lag_m;  // mean distance of the pairs in each bin
-  std::vector<double> gamma;  // half the mean squared height difference
+  std::vector<double> gamma;  // half the mean squared height difference, less the noise below
   std::vector<double> pairs;  // pairs in the bin
   // The pairs' mean noise variance taken out of gamma (zero without noise variances): gamma
   // plus this is what the bin's squared differences scatter about, and weighs its fit.
