@@ -136,25 +136,40 @@ struct PairContext {
   int d_min = 0, d_max = 0;
 };
 
-PairContext PreparePair(const Rectification& r, const cv::Mat& left_rect, const cv::Mat& right_rect,
-                        const PairMatchOptions& o) {
-  PairContext c;
+// Each image's half of the preparation; the two halves run side by side (a pair matched as the
+// capture goes on is the one the products wait for at the end).
+void PrepareImage(const cv::Mat& rect, const PairMatchOptions& o, bool half, cv::Mat* lsm,
+                  cv::Mat* searched, cv::Mat* half_lsm, ImageGradients* gradients,
+                  ImageGradients* half_gradients) {
   EnhanceOptions smooth_only = o.enhance, wallis_only = o.enhance;
   smooth_only.wallis = false;
   wallis_only.gaussian_sigma_px = 0.0;
-  c.lsm_left = Enhance(left_rect, smooth_only);
-  c.lsm_right = Enhance(right_rect, smooth_only);
-  c.left = Enhance(c.lsm_left, wallis_only);
-  c.right = Enhance(c.lsm_right, wallis_only);
-  c.gradients = ComputeGradients(c.lsm_left);
+  *lsm = Enhance(rect, smooth_only);
+  *searched = Enhance(*lsm, wallis_only);
+  if (gradients) *gradients = ComputeGradients(*lsm);
+  if (half) cv::pyrDown(*lsm, *half_lsm);
+  if (half && half_gradients) *half_gradients = ComputeGradients(*half_lsm);
+}
+
+PairContext PreparePair(const Rectification& r, const cv::Mat& left_rect, const cv::Mat& right_rect,
+                        const PairMatchOptions& o) {
+  PairContext c;
   // (Without a known geometry, as for an explicit disparity range, there is no depth.)
   const bool explicit_range = o.max_disparity_px >= 0;
-  if (o.half_resolution_within_m > 0.0 && !explicit_range) {
-    cv::pyrDown(c.lsm_left, c.half_left);
-    cv::pyrDown(c.lsm_right, c.half_right);
-    c.half_gradients = ComputeGradients(c.half_left);
-    c.near_disparity = r.focal_px * r.baseline_m / o.half_resolution_within_m;
-  }
+  const bool half = o.half_resolution_within_m > 0.0 && !explicit_range;
+  cv::parallel_for_(
+      cv::Range(0, 2),
+      [&](const cv::Range& sides) {
+        for (int side = sides.start; side < sides.end; ++side)
+          if (side == 0)
+            PrepareImage(left_rect, o, half, &c.lsm_left, &c.left, &c.half_left, &c.gradients,
+                         &c.half_gradients);
+          else
+            PrepareImage(right_rect, o, half, &c.lsm_right, &c.right, &c.half_right, nullptr,
+                         nullptr);
+      },
+      2.0);
+  if (half) c.near_disparity = r.focal_px * r.baseline_m / o.half_resolution_within_m;
   c.half_lsm = o.near_lsm;
   c.half_lsm.max_sigma_px /= 2, c.half_lsm.max_shift_px /= 2, c.half_lsm.convergence_px /= 2;
   if (o.far_window_from_m > 0.0 && !explicit_range)
@@ -240,22 +255,34 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   const PairContext c = PreparePair(r, left_rect, right_rect, o);
   s.enhance_s = SecondsSince(&clock);
 
-  // Approximations for both images: the right one as the mirror image of the problem.
-  const DisparityMap left_map =
-      MatchPyramid(c.left, c.right, c.d_min, c.d_max, o.dense_finest_level, o.pyramid);
-  cv::Mat left_flipped, right_flipped;
-  cv::flip(c.left, left_flipped, 1);
-  cv::flip(c.right, right_flipped, 1);
-  DisparityMap right_map =
-      MatchPyramid(right_flipped, left_flipped, c.d_min, c.d_max, o.dense_finest_level, o.pyramid);
-  cv::flip(right_map.disparity, right_map.disparity, 1);
-  // Flipping a map of odd width shifts its pixels by one level-pixel against the image;
-  // the full-resolution search's radius absorbs it.
-
-  s.pyramid_s = SecondsSince(&clock);
-  const std::vector<cv::Point> points = Points(c.left, o);
+  // Approximations for both images (the right one as the mirror image of the problem) and the
+  // interest points, side by side.
+  DisparityMap left_map, right_map;
+  std::vector<cv::Point> points;
+  cv::parallel_for_(
+      cv::Range(0, 3),
+      [&](const cv::Range& tasks) {
+        for (int task = tasks.start; task < tasks.end; ++task) {
+          if (task == 0) {
+            left_map =
+                MatchPyramid(c.left, c.right, c.d_min, c.d_max, o.dense_finest_level, o.pyramid);
+          } else if (task == 1) {
+            cv::Mat left_flipped, right_flipped;
+            cv::flip(c.left, left_flipped, 1);
+            cv::flip(c.right, right_flipped, 1);
+            right_map = MatchPyramid(right_flipped, left_flipped, c.d_min, c.d_max,
+                                     o.dense_finest_level, o.pyramid);
+            cv::flip(right_map.disparity, right_map.disparity, 1);
+            // Flipping a map of odd width shifts its pixels by one level-pixel against the image;
+            // the full-resolution search's radius absorbs it.
+          } else {
+            points = Points(c.left, o);
+          }
+        }
+      },
+      3.0);
+  s.maps_and_points_s = SecondsSince(&clock);
   s.points = static_cast<int>(points.size());
-  s.points_s = SecondsSince(&clock);
   const int h = o.ncc_half_window_px;
   std::vector<StereoMatch> matches;
   matches.reserve(points.size() / 2);

@@ -155,8 +155,8 @@ struct PairMatchSummary {
   int lsm_accepted = 0;
   int consistent = 0;
   int one_surface = 0;  // consistent, and the window sees one surface
-  // wall time of the steps (s)
-  double enhance_s = 0.0, pyramid_s = 0.0, points_s = 0.0, matching_s = 0.0;
+  // wall time of the steps (s); the disparity maps and the interest points are found together
+  double enhance_s = 0.0, maps_and_points_s = 0.0, matching_s = 0.0;
 };
 
 std::vector<StereoMatch> MatchRectifiedPair(const Rectification& rectification,
