@@ -234,23 +234,29 @@ Result<std::vector<StereoPairImages>> StationProcessor::LeftImages(
   return images;
 }
 
-void StationProcessor::MoveToStage(const Calibration& refined,
-                                   const std::vector<StereoPairImages>& left_images,
-                                   StationInputs* in, StationWork* w) {
+double StationProcessor::MoveToStage(const Calibration& refined,
+                                     const std::vector<StereoPairImages>& left_images,
+                                     StationInputs* in, StationWork* w) {
   for (auto& [index, pair] : matched_) MovePairPoints(in->calibration, refined, &pair);
   w->cloud.clear();
   for (const StereoPairImages& p : left_images) {
     const PointCloud& cloud = matched_.at(p.index).cloud;
     w->cloud.insert(w->cloud.end(), cloud.begin(), cloud.end());
   }
-  PanoramaBuilder panorama(refined, options_.panorama);
-  panorama.Add(left_images);
-  w->panorama = panorama.Image();
+  // The panorama is an overview drawn by nearest pixel: a stage that turns no view by a quarter
+  // of its pixel leaves it as drawn (a bumped tripod's tilt zero turns them by 1.5 pixels).
+  const double turn_deg = LargestViewTurnDeg(in->calibration, refined, left_images);
+  if (turn_deg > 0.25 * options_.panorama.deg_per_px) {
+    PanoramaBuilder panorama(refined, options_.panorama);
+    panorama.Add(left_images);
+    w->panorama = panorama.Image();
+  }
   in->calibration = refined;
   in->calibration_source += " (stage self-calibrated)";
   in->calibration_sha256 = Sha256Hex(CalibrationToYaml(refined));
   std::lock_guard lock(mutex_);
   worker_calibration_sha256_ = in->calibration_sha256;
+  return turn_deg;
 }
 
 bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSummary* s) {
@@ -302,7 +308,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   w->levelling_sigma_deg = std::sqrt(0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]));
   Calibration refined = in->calibration;
   refined.stage = check->adjustment.stage;
-  MoveToStage(refined, *images, in, w);
+  s->counts["largest_view_turn_deg"] = MoveToStage(refined, *images, in, w);
   return true;
 }
 

@@ -66,9 +66,10 @@ class StationProcessor {
   // read-back), the others from disk.
   Result<std::vector<StereoPairImages>> LeftImages(const StationInputs& in,
                                                    const std::vector<PairRecord>& records) const;
-  // The matched pairs, the cloud, the panorama and `in`'s calibration on `refined`'s stage.
-  void MoveToStage(const Calibration& refined, const std::vector<StereoPairImages>& left_images,
-                   StationInputs* in, StationWork* w);
+  // The matched pairs, the cloud, the panorama and `in`'s calibration on `refined`'s stage; the
+  // largest turn of a view (deg).
+  double MoveToStage(const Calibration& refined, const std::vector<StereoPairImages>& left_images,
+                     StationInputs* in, StationWork* w);
 
   const std::string dir_;
   const ProcessOptions options_;

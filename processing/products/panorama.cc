@@ -1,5 +1,6 @@
 #include "processing/products/panorama.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -68,6 +69,18 @@ void PanoramaBuilder::Add(const std::vector<StereoPairImages>& pairs) {
       }
     }
   });
+}
+
+double LargestViewTurnDeg(const Calibration& from, const Calibration& to,
+                          const std::vector<StereoPairImages>& pairs) {
+  double largest = 0.0;
+  for (const StereoPairImages& p : pairs) {
+    const Eigen::Matrix3d turn =
+        to.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg).linear() *
+        from.LFromCamera(Side::kLeft, p.pan_deg, p.tilt_deg).linear().transpose();
+    largest = std::max(largest, Eigen::AngleAxisd(turn).angle() * 180.0 / M_PI);
+  }
+  return largest;
 }
 
 cv::Mat PanoramaBuilder::Image() const {

@@ -42,6 +42,11 @@ class PanoramaBuilder {
   cv::Mat best_dot_;  // CV_64FC1: cosine between the pixel's direction and its image's axis
 };
 
+// The largest angle (deg) by which `to` turns a left camera's view from where `from` put it, over
+// the pairs' stage angles: how far a panorama drawn on `from` stands from one drawn on `to`.
+double LargestViewTurnDeg(const Calibration& from, const Calibration& to,
+                          const std::vector<StereoPairImages>& pairs);
+
 // All pairs at once: a PanoramaBuilder given each pair in order.
 cv::Mat RenderPanorama(const Calibration& calibration, const std::vector<StereoPairImages>& pairs,
                        const PanoramaOptions& options = {});
