@@ -484,28 +484,48 @@ std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::
   Eigen::MatrixXd n_ss = Eigen::MatrixXd::Zero(reduced, reduced);
   std::vector<Eigen::Matrix3d> n_pp(points, Eigen::Matrix3d::Zero());
   std::vector<Eigen::MatrixXd> n_ps(points, Eigen::MatrixXd::Zero(3, reduced));
-  Eigen::VectorXd a(reduced);
+  // A row touches the stage, one pose's encoders and levelling, and one point: its products are
+  // summed over the columns it touches only (the others add zeros), and each point's block is
+  // eliminated over the columns its rows touched.
+  std::vector<std::vector<int>> point_columns(points);
+  std::vector<int> columns;
+  std::vector<double> values;
   for (int row = 0; row < j.num_rows; ++row) {
-    a.setZero();
+    columns.clear();
+    values.clear();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     int point = -1;
     for (int k = j.rows[row]; k < j.rows[row + 1]; ++k) {
       if (j.cols[k] < reduced) {
-        a[j.cols[k]] = j.values[k];
+        columns.push_back(j.cols[k]);
+        values.push_back(j.values[k]);
       } else {
         point = (j.cols[k] - reduced) / 3;
         b[(j.cols[k] - reduced) % 3] = j.values[k];
       }
     }
-    n_ss += a * a.transpose();
+    for (size_t x = 0; x < columns.size(); ++x)
+      for (size_t y = 0; y < columns.size(); ++y)
+        n_ss(columns[x], columns[y]) += values[x] * values[y];
     if (point < 0) continue;
     n_pp[point] += b * b.transpose();
-    n_ps[point] += b * a.transpose();
+    for (size_t x = 0; x < columns.size(); ++x) {
+      n_ps[point].col(columns[x]) += b * values[x];
+      point_columns[point].push_back(columns[x]);
+    }
   }
   for (int p = 0; p < points; ++p) {
     const Eigen::FullPivLU<Eigen::Matrix3d> lu(n_pp[p]);
     if (!lu.isInvertible()) return std::nullopt;
-    n_ss -= n_ps[p].transpose() * lu.solve(n_ps[p]);
+    std::vector<int>& touched = point_columns[p];
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    const int t = static_cast<int>(touched.size());
+    Eigen::MatrixXd n_pt(3, t);
+    for (int x = 0; x < t; ++x) n_pt.col(x) = n_ps[p].col(touched[x]);
+    const Eigen::MatrixXd update = n_pt.transpose() * lu.solve(n_pt);
+    for (int x = 0; x < t; ++x)
+      for (int y = 0; y < t; ++y) n_ss(touched[x], touched[y]) -= update(x, y);
   }
   // Inverted with its diagonal scaled to one: offsets in metres and angles in degrees differ
   // by many orders in their information.
