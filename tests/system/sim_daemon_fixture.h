@@ -64,8 +64,10 @@ class SimDaemonTest : public ::testing::Test {
     return d;
   }
 
+  // Up to 30 s: under a whole `make test` on 2 cores, 10 s was once too short (the page's test
+  // then failed before it began).
   static bool WaitReady(const DaemonProcess& d) {
-    for (int i = 0; i < 100; ++i) {
+    for (int i = 0; i < 300; ++i) {
       const nlohmann::json s = d.GetJson("/status");
       if (s.is_object() && s["ready"] == true) return true;
       std::this_thread::sleep_for(100ms);
