@@ -162,11 +162,13 @@ FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const Fr
     const double fr = (dem->max_y_m - e.y) / dem->cell_m - 0.5;
     int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
     double tx = fc - c0, ty = fr - r0;
-    // On the outermost half cell the surface is the nearest cell's (Raster::Interpolate).
-    if (c0 < 0) c0 = 0, tx = 0.0;
-    if (r0 < 0) r0 = 0, ty = 0.0;
-    if (c0 + 1 >= dem->cols) c0 = dem->cols - 2, tx = 1.0;
-    if (r0 + 1 >= dem->rows) r0 = dem->rows - 2, ty = 1.0;
+    // On the outermost half cell the surface is the nearest cell's, in both directions, as
+    // Raster::Interpolate has it (not a blend along the edge: the nearest cell may stand above).
+    if (c0 < 0 || r0 < 0 || c0 + 1 >= dem->cols || r0 + 1 >= dem->rows) {
+      const int c = static_cast<int>(std::lround(fc)), r = static_cast<int>(std::lround(fr));
+      c0 = std::clamp(c, 0, dem->cols - 2), tx = c - c0;
+      r0 = std::clamp(r, 0, dem->rows - 2), ty = r - r0;
+    }
     if (c0 < 0 || r0 < 0) continue;  // a grid one cell wide
     Constraint k{{}, {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, e.height, 0.0};
     bool data = true;

@@ -99,6 +99,22 @@ TEST(FreeSpace, ABridgedHollowComesDownBelowEveryLineAndNothingElseMoves) {
   EXPECT_FLOAT_EQ(dem.at(10, 25), 0.0f);
 }
 
+// On the outermost half cell of the grid the surface is the nearest cell's (Raster::Interpolate,
+// which the DEM's users read it with): a line over it brings that cell down, not a blend of it
+// and its neighbour along the edge (foot seed 1: 27 edge cells stood 0.1-0.4 m above lines to
+// the ground just past the square).
+TEST(FreeSpace, OnTheOutermostHalfCellTheNearestCellComesDown) {
+  Raster dem = Raster::Make(0.0, 3.0, 1.0, 3, 3);  // centres at 0.5, 1.5, 2.5
+  for (float& v : dem.values) v = 0.0f;
+  dem.at(0, 0) = 1.0f;
+  SightLineCeilings c;
+  c.ceilings.push_back({0.9, 2.9, 0.5, 0.0});  // above row 0's centres, nearest column 0
+  LowerBelowSightLines(c, {}, &dem);
+  EXPECT_LE(dem.Interpolate(0.9, 2.9), 0.5 + 1e-6);
+  EXPECT_NEAR(dem.at(0, 0), 0.5, 1e-6);
+  EXPECT_EQ(dem.at(0, 1), 0.0f);
+}
+
 TEST(FreeSpace, NoDataCellsStayNoData) {
   Raster dem = Level(1.0);
   dem.at(10, 10) = Raster::kNoData;
