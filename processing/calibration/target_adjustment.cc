@@ -10,6 +10,7 @@
 #include <memory>
 #include <opencv2/calib3d.hpp>
 
+#include "processing/common/family_wise.h"
 #include "processing/calibration/measured_residual.h"
 
 namespace ts {
@@ -256,17 +257,6 @@ Status Solve(ceres::Problem* problem, const TargetAdjustmentOptions& o, int* ite
   return {};
 }
 
-// k for n residual coordinates: a standard normal exceeds k in any of them with probability
-// alpha (two-sided, Bonferroni), so that a clean set of any size keeps all its points.
-double FamilyWiseCriticalValue(int n, double alpha) {
-  double lo = 0.0, hi = 40.0;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (n * std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
-  }
-  return hi;
-}
-
 // sigma0 from the inliers (image_squares: the images' part of its sum). Then, when it may, every
 // observation is judged again against k sigma0 (one rejected earlier comes back when it fits);
 // returns how many judgements changed.
@@ -292,6 +282,7 @@ int JudgeOutliers(TargetAdjustment* a, const TargetAdjustmentOptions& o, bool ma
                           3 * static_cast<int>(std::count(adjusted.begin(), adjusted.end(), 1));
   precision->sigma0_px = std::sqrt(sum / std::max(1, precision->redundancy));
   precision->rejected = all - inliers;
+  // Over all residual coordinates at once, so that a clean set of any size keeps all its points.
   precision->rejection_k =
       o.rejection_k > 0.0 ? o.rejection_k : FamilyWiseCriticalValue(2 * all, o.rejection_alpha);
   if (!may_reject || precision->redundancy <= 0) return 0;

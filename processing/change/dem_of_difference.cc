@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "processing/change/subsidence_regions.h"
+#include "processing/common/family_wise.h"
 
 namespace ts {
 namespace {
@@ -148,6 +149,7 @@ Result<ChangeResult> CompareEpochs(const DemEpoch& before, const DemEpoch& after
   out.compared_fraction_before = static_cast<double>(out.cells_compared) / before_cells;
   out.compared_fraction_after = static_cast<double>(out.cells_compared) / after_cells;
   out.stable_median_m = Median(std::move(stable));
+  out.region_deepest_t = FamilyWiseCriticalValue(out.cells_compared, TwoSidedTail(o.t_critical));
   out.regions = FindSubsidenceRegions(out, o);
 
   char text[240];

@@ -105,6 +105,9 @@ struct ChangeResult {
   double max_subsidence_sigma_m = 0.0;
   Eigen::Vector2d max_subsidence_xy_m = Eigen::Vector2d::Zero();
   std::vector<SubsidenceRegion> regions;
+  // The t a region's deepest cell must reach to be listed: t_critical's level over all the
+  // compared cells at once, so that noise alone lists a region in at most that share of surveys.
+  double region_deepest_t = 0.0;
   // Median dz over the cells below detection: ~0 unless the epochs' height datums differ.
   double stable_median_m = 0.0;
   double offset_removed_m = 0.0;  // subtracted from the later epoch (remove_stable_offset)

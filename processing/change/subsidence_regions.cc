@@ -110,10 +110,21 @@ std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
       core.at<uint8_t>(r, c) = change.change_class.at(r, c) == kSignificantLowering;
   cv::Mat labels, stats, centroids;
   const int count = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
-  // Cores too small to list are not grown.
+  // Among thousands of cells, a few neighbours pass the per-cell test by chance (the cells'
+  // errors are correlated, so they come in clusters): a core is listed only when its deepest
+  // cell stands out of the noise of the whole compared area. Cores too small or too shallow to
+  // list are not grown; their cells still count in the totals.
+  std::vector<double> deepest_t(count, 0.0);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c)
+      if (const int k = labels.at<int32_t>(r, c))
+        deepest_t[k] = std::max(deepest_t[k], -grid.at(r, c) / double{change.dod_std.at(r, c)});
   std::vector<int> keep(count, 0);
   for (int k = 1; k < count; ++k)
-    keep[k] = stats.at<int32_t>(k, cv::CC_STAT_AREA) * cell_area >= o.min_region_area_m2 ? k : 0;
+    keep[k] = stats.at<int32_t>(k, cv::CC_STAT_AREA) * cell_area >= o.min_region_area_m2 &&
+                      deepest_t[k] >= change.region_deepest_t
+                  ? k
+                  : 0;
   std::deque<cv::Point> frontier;
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c) {

@@ -7,7 +7,8 @@
 
 namespace ts {
 
-// Significant cores of at least min_region_area_m2, each grown (4-neighbours) into the cells
+// Significant cores of at least min_region_area_m2 whose deepest cell reaches
+// change.region_deepest_t sigma, each grown (4-neighbours) into the cells
 // lowered by at least region_grow_t sigma, then ring by ring into its basin while a ring is
 // lowered as a whole; largest volume first, numbered from 1.
 std::vector<SubsidenceRegion> FindSubsidenceRegions(const ChangeResult& change,
