@@ -119,9 +119,10 @@ nlohmann::json ChangeToJson(const ChangeResult& c, const ChangeOptions& o) {
           {"min_region_area_m2", o.min_region_area_m2},
           {"regions",
            "significant cores of at least min_region_area_m2 whose deepest cell reaches "
-           "region_deepest_t sigma (t_critical's level over all compared cells at once), grown into 4-neighbours lowered "
-           "by at least region_grow_t sigma, then ring by ring (up to basin_reach_m) while a "
-           "ring's mean lowering is significant at t_critical; volume: the net lowering over it"},
+           "region_deepest_t sigma (t_critical's level over all compared cells at once), grown "
+           "into 4-neighbours lowered by at least region_grow_t sigma, then ring by ring (up to "
+           "basin_reach_m) while a ring's mean lowering is significant at t_critical; volume: "
+           "the net lowering over it"},
           {"region_deepest_t", c.region_deepest_t},
           {"region_grow_t", o.region_grow_t},
           {"basin_reach_m", o.basin_reach_m},
