@@ -10,8 +10,8 @@
 #include <memory>
 #include <opencv2/calib3d.hpp>
 
-#include "processing/common/family_wise.h"
 #include "processing/calibration/measured_residual.h"
+#include "processing/common/family_wise.h"
 
 namespace ts {
 namespace {
