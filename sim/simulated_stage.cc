@@ -107,6 +107,7 @@ void SimulatedStage::ApplyCommands() {
       // Both axes' commands arrive in separate requests: announce once both are in.
       announce_in_ticks_ = 4;
       awaiting_view_ = static_cast<bool>(view_ready_);
+      ++inclinometer_draw_;
     }
     switch (command) {
       case reg::kStart:
@@ -133,9 +134,9 @@ void SimulatedStage::ApplyCommands() {
 void SimulatedStage::PublishRegisters() {
   Eigen::Vector2d tilt = InclinometerReads(options_.levelling, pan_.position_deg(),
                                            options_.inclinometer_index_error_deg);
-  const uint64_t draw = inclinometer_draws_++;
   for (int axis = 0; axis < 2; ++axis)
-    tilt[axis] += options_.inclinometer_noise_deg * HashGaussian(options_.seed, 0x1c11, draw, axis);
+    tilt[axis] += options_.inclinometer_noise_deg *
+                  HashGaussian(options_.seed, 0x1c11, inclinometer_draw_, axis);
   for (const auto& [address, deg] :
        {std::pair{reg::kInclinometerX, tilt.x()}, std::pair{reg::kInclinometerY, tilt.y()}})
     Put32(mapping_, address,

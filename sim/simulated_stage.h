@@ -27,7 +27,9 @@ struct SimulatedStageOptions {
   AxisSettings pan;   // default 60 deg/s, 180 deg/s^2, settling 0.2 s
   AxisSettings tilt;  // default 30 deg/s, soft limits +-32 deg
   // The inclinometer rides the pan (inclinometer.h): it reads this set-up's levelling (and pan
-  // zero) turned by the encoder's pan, plus its index error and, at each reading, its noise.
+  // zero) turned by the encoder's pan, plus its index error and its noise: drawn anew with
+  // every move, not with every tick of the simulation, so that a survey reads the same whatever
+  // the machine's load.
   StageKinematics levelling;
   Eigen::Vector2d inclinometer_index_error_deg = Eigen::Vector2d::Zero();
   double inclinometer_noise_deg = 0.0;
@@ -87,7 +89,7 @@ class SimulatedStage {
   std::vector<void*> contexts_;
   std::vector<int> fds_;
   uint64_t rng_state_;
-  uint64_t inclinometer_draws_ = 0;
+  uint64_t inclinometer_draw_ = 0;  // the moves commanded so far
 };
 
 }  // namespace ts::sim

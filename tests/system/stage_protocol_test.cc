@@ -141,6 +141,44 @@ TEST(SimulatedStage, FullCycleOverModbusRtuOnAPseudoTerminal) {
   FullCycle(client, options);
 }
 
+// The inclinometer's noise is drawn anew with each move, not with each tick of the simulation:
+// standing still it reads the same however often (and however late) it is read, so a survey
+// of one seed reads the same whatever the machine's load; back at the same pose after a move,
+// it reads another draw of the same size.
+TEST(SimulatedStage, InclinometerNoiseIsDrawnPerMoveNotPerTick) {
+  SimulatedStageOptions options;
+  options.inclinometer_noise_deg = 0.002;
+  SimulatedStage stage(options);
+  ASSERT_TRUE(stage.ListenTcp("127.0.0.1", 15124).ok());
+  Client c(modbus_new_tcp("127.0.0.1", 15124));
+  auto home = [&] {
+    c.Command(reg::kPanBase, reg::kHome);
+    c.Command(reg::kTiltBase, reg::kHome);
+    ASSERT_GE(c.WaitFor(reg::kPanBase, reg::kHomed | reg::kInPosition | reg::kReady), 0.0);
+    ASSERT_GE(c.WaitFor(reg::kTiltBase, reg::kHomed | reg::kInPosition), 0.0);
+  };
+  // Microradians, as the registers hold them.
+  auto reading = [&] {
+    return std::pair{c.Read32(reg::kInclinometerX), c.Read32(reg::kInclinometerY)};
+  };
+  const double five_sigma_urad = 5 * options.inclinometer_noise_deg * M_PI / 180.0 * 1e6;
+  home();
+  const auto first = reading();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(reading(), first);
+  // The levelling is zero: what it reads is its noise.
+  EXPECT_NE(first, std::pair(0, 0));
+  EXPECT_LT(std::max(std::abs(first.first), std::abs(first.second)), five_sigma_urad);
+  c.Write32(reg::kPanBase + reg::kTarget, 10000);
+  c.Command(reg::kPanBase, reg::kStart);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_GE(c.WaitFor(reg::kPanBase, reg::kInPosition), 0.0);
+  home();
+  const auto again = reading();
+  EXPECT_NE(again, first);
+  EXPECT_LT(std::max(std::abs(again.first), std::abs(again.second)), five_sigma_urad);
+}
+
 TEST(SimulatedStage, CorruptedAndDroppedRepliesAtTheRequestedRates) {
   SimulatedStageOptions options;
   options.corrupt_reply_ratio = 0.2;
