@@ -177,6 +177,23 @@ TEST(DemOfDifference, UnchangedGroundListsNoRegionBeyondTheTestsLevel) {
   EXPECT_LE(with_a_region, surveys / 20);
 }
 
+// The listing's boundary, on noise-free epochs of std 1 cm (sigma 14 mm): a 0.08 m bowl, its
+// deepest cell 5.7 sigma down, is listed; a 0.04 m bowl, 2.8 sigma, is not (3600 cells: 4.35
+// sigma), though its significant cells still count in the lowering.
+TEST(DemOfDifference, AShallowBowlIsListedOnlyWhenItsDeepestCellStandsOutOfTheNoise) {
+  const double s = 0.01;
+  for (const auto& [depth, listed] : {std::pair{0.08, 1u}, std::pair{0.04, 0u}}) {
+    const Result<ChangeResult> c = ComputeDemOfDifference(
+        Epoch("b", Surface(1.0, None), s),
+        Epoch("a", Surface(1.0, [&](double x, double y) { return Bowl(x, y, 9.5, 6.5, depth, 7); }),
+              s));
+    ASSERT_TRUE(c) << c.error();
+    EXPECT_NEAR(c->region_deepest_t, 4.3456, 1e-3);
+    EXPECT_GT(c->lowering.cells, 4) << depth;
+    EXPECT_EQ(c->regions.size(), listed) << depth;
+  }
+}
+
 // The outline of a 3 x 3 block is the square along its cell edges; a ring-shaped lowering has
 // a hole; a one-cell speckle counts in the totals but is not listed as a region.
 TEST(DemOfDifference, RegionOutlinesHolesAndSpeckles) {
