@@ -68,6 +68,11 @@ StageVector StageVectorOf(const StageKinematics& s) {
           s.rig_rotation_opk_deg.z()};
 }
 
+double SightTiltSigmaDeg(const StageVector& sigma) {
+  const double levelling2 = 0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]);
+  return std::sqrt(levelling2 + sigma[3] * sigma[3] + sigma[11] * sigma[11]);
+}
+
 StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage) {
   StageKinematics s = stage;
   s.levelling_x_deg = v[0];

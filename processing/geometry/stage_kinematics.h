@@ -52,6 +52,12 @@ StageVector StageVectorOf(const StageKinematics& stage);
 // `stage` with the parameters of `v` (its height above the mark kept).
 StageKinematics StageKinematicsOf(const StageVector& v, const StageKinematics& stage);
 
+// The sigma (deg) of the angle by which the stage parameters' sigmas tilt a line of sight in
+// elevation, averaged over the pan: the levelling about x and y (a line along one of them sees
+// half of each, on average), the tilt axis's zero and the rig's pitch on its plate (omega)
+// whole. Independent, as an adjustment's sigmas are taken here.
+double SightTiltSigmaDeg(const StageVector& sigma);
+
 // L_from_S as a rotation and a translation for a StageVector `v`; templated so that Ceres can
 // differentiate it. StageKinematics::LFromS is this for doubles.
 template <typename T>

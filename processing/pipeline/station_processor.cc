@@ -27,7 +27,7 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"horizon_limit", LimitDemToHorizon},
     {"free_space", KeepBelowSightLines},
     {"ground_room", AddGroundRoom},
-    {"levelling_sigma", AddLevellingSigma},
+    {"sight_tilt_sigma", AddSightTiltSigma},
     {"terrain_correction", CorrectTerrain},
     {"products", [](const ProcessOptions& o, StationWork* w,
                     StepSummary* s) { return WriteProducts(o, *w, s); }},
@@ -303,9 +303,7 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   if (check->after.within_2_sigma < RigCheck::kClosedShare)
     s->warnings.push_back("the seams do not close after the rig's self-calibration: " +
                           SeamsLine(check->after));
-  // Levelling about x and y alike in every direction from the station.
-  const StageVector& sigma = check->adjustment.sigma;
-  w->levelling_sigma_deg = std::sqrt(0.5 * (sigma[0] * sigma[0] + sigma[1] * sigma[1]));
+  w->sight_tilt_sigma_deg = SightTiltSigmaDeg(check->adjustment.sigma);
   Calibration refined = in->calibration;
   refined.stage = check->adjustment.stage;
   s->counts["largest_view_turn_deg"] = MoveToStage(refined, *images, in, w);

@@ -208,9 +208,9 @@ bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   return true;
 }
 
-bool AddLevellingSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
-  const double sigma_rad = w->levelling_sigma_deg * M_PI / 180.0;
-  s->counts = {{"levelling_sigma_deg", w->levelling_sigma_deg}};
+bool AddSightTiltSigma(const ProcessOptions&, StationWork* w, StepSummary* s) {
+  const double sigma_rad = w->sight_tilt_sigma_deg * M_PI / 180.0;
+  s->counts = {{"sight_tilt_sigma_deg", w->sight_tilt_sigma_deg}};
   if (sigma_rad <= 0.0) return true;
   Raster& std_dev = w->kriged.std;
   for (int row = 0; row < std_dev.rows; ++row)

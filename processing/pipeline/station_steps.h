@@ -3,7 +3,7 @@
 // "Processing pipeline"), each a function over the station's working state:
 //   FilterHeightBlunders -> FindObjectsAlongSightLines -> FilterGroundPoints ->
 //   RemoveUndersidePatches -> KrigeStationDem -> LimitDemToHorizon -> KeepBelowSightLines ->
-//   WidenStdByGroundRoom -> AddLevellingSigma -> CorrectTerrain
+//   WidenStdByGroundRoom -> AddSightTiltSigma -> CorrectTerrain
 // A step fills its StepSummary (counts, warnings) and returns false with summary->message on
 // failure; processing code below may throw, which the StepRunner catches.
 #include <Eigen/Core>
@@ -51,9 +51,10 @@ struct StationWork {
   TerrainCorrection terrain_correction;
   nlohmann::json rig_check;  // report.json's "rig": the stage checked on the seams
   cv::Mat seams_image;       // products/seams.png, when the rig was checked
-  // The levelling's sigma when it came from the station's inclinometer through the rig's
-  // self-calibration (deg; 0: the calibration's levelling taken as exact).
-  double levelling_sigma_deg = 0.0;
+  // The sigma of the angle by which the rig's self-calibration may tilt every line of sight
+  // (deg; 0: the calibration's stage taken as exact): the levelling, the tilt axis's zero and
+  // the rig's pitch on its plate. Ground r metres out moves r times it, up or down.
+  double sight_tilt_sigma_deg = 0.0;
 };
 
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s);
@@ -68,7 +69,7 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
 bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s);
 // The levelling's sigma tilts the whole DEM about the station: sigma r at distance r enters
 // each cell's std (the seams cannot see the levelling; the inclinometer can, to its sigma).
-bool AddLevellingSigma(const ProcessOptions& o, StationWork* w, StepSummary* s);
+bool AddSightTiltSigma(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s);
 
 }  // namespace ts

@@ -57,6 +57,34 @@ TEST(StageKinematics, LevellingTiltsThePanAxis) {
   EXPECT_NEAR(DegFromRad(std::acos(axis.z())), 0.5, 1e-4);
 }
 
+// The sigma of a line of sight's elevation, from the stage's sigmas: each parameter moved by
+// its sigma alone, the forward direction's change in elevation, squared and averaged round the
+// pan (at the lower row's tilt and level), summed over the parameters. Those that only turn or
+// shift the views (pan zero, the rig's roll and yaw, the offsets) add nothing.
+TEST(StageKinematics, SightTiltSigmaIsWhatTheSigmasTiltTheLinesOfSightBy) {
+  StageVector sigma{};
+  sigma[0] = 0.01, sigma[1] = 0.02, sigma[2] = 0.5, sigma[3] = 0.03, sigma[5] = 0.01;
+  sigma[11] = 0.04, sigma[12] = 0.05, sigma[13] = 0.06;
+  const StageVector nominal = StageVectorOf(StageKinematics{});
+  auto elevation_deg = [](const StageKinematics& s, double pan, double tilt) {
+    return DegFromRad(std::asin(Forward(s, pan, tilt).z()));
+  };
+  for (const double tilt : {-17.0, 0.0}) {
+    double sum2 = 0.0;
+    int n = 0;
+    for (double pan = 0.0; pan < 360.0; pan += 15.0, ++n)
+      for (int k = 0; k < kStageParameterCount; ++k) {
+        StageVector moved = nominal;
+        moved[k] += sigma[k];
+        const StageKinematics s = StageKinematicsOf(moved, StageKinematics{});
+        sum2 +=
+            std::pow(elevation_deg(s, pan, tilt) - elevation_deg(StageKinematics{}, pan, tilt), 2);
+      }
+    EXPECT_NEAR(std::sqrt(sum2 / n), SightTiltSigmaDeg(sigma), 1e-3 * SightTiltSigmaDeg(sigma))
+        << tilt;
+  }
+}
+
 TEST(StageKinematics, RigOffsetSweepsACircleUnderPan) {
   StageKinematics s;
   s.rig_offset_m = {0.0, 0.1, 0.2};
