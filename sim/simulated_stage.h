@@ -89,7 +89,7 @@ class SimulatedStage {
   std::vector<void*> contexts_;
   std::vector<int> fds_;
   uint64_t rng_state_;
-  uint64_t inclinometer_draw_ = 0;  // the moves commanded so far
+  uint64_t inclinometer_draw_ = 0;  // the axis commands to move or home taken so far
 };
 
 }  // namespace ts::sim

@@ -67,8 +67,8 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s);
 // The std widened by what the ground could do where kriging cannot know (ground_room.h).
 bool AddGroundRoom(const ProcessOptions& o, StationWork* w, StepSummary* s);
-// The levelling's sigma tilts the whole DEM about the station: sigma r at distance r enters
-// each cell's std (the seams cannot see the levelling; the inclinometer can, to its sigma).
+// The self-calibrated stage's sigmas tilt every line of sight (StationWork::sight_tilt_sigma_deg):
+// sigma r at distance r from the station enters each cell's std.
 bool AddSightTiltSigma(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool CorrectTerrain(const ProcessOptions& o, StationWork* w, StepSummary* s);
 
