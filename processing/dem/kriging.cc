@@ -32,6 +32,8 @@ void CheckVariances(const KrigingPoints& points, const char* where) {
   if (!points.height_variances_m2.empty() &&
       points.height_variances_m2.size() != points.positions.size())
     throw std::invalid_argument(std::string(where) + ": one height variance per point, or none");
+  if (!points.matches.empty() && points.matches.size() != points.positions.size())
+    throw std::invalid_argument(std::string(where) + ": one match per point, or none");
 }
 
 struct Candidate {
@@ -136,6 +138,47 @@ std::vector<Eigen::Vector3d> KrigingPoints::All() const {
   return all;
 }
 
+namespace {
+
+// The mean window of the members of [begin, end) from the pair most of them came from.
+PointMatch MeanMatch(const std::vector<PointMatch>& matches, const int* begin, const int* end) {
+  int most_pair = -1, most = 0;
+  for (const int* i = begin; i != end; ++i) {
+    const int pair = matches[*i].pair;
+    const int count =
+        static_cast<int>(std::count_if(begin, end, [&](int k) { return matches[k].pair == pair; }));
+    if (count > most) most = count, most_pair = pair;
+  }
+  PointMatch mean{most_pair, {}};
+  for (const int* i = begin; i != end; ++i) {
+    if (matches[*i].pair != most_pair) continue;
+    mean.window.centre_px += matches[*i].window.centre_px / most;
+    mean.window.half_size_px += matches[*i].window.half_size_px / most;
+  }
+  return mean;
+}
+
+// The variance of the mean height of the points [begin, end): their errors correlate as their
+// windows share noise; without their matches, all as one error (the mean of their variances).
+double MeanVariance(const KrigingPoints& points, const int* begin, const int* end) {
+  const std::vector<double>& v = points.height_variances_m2;
+  const double count = static_cast<double>(end - begin);
+  double sum = 0.0;
+  if (points.matches.empty()) {
+    for (const int* i = begin; i != end; ++i) sum += v[*i];
+    return sum / count;
+  }
+  for (const int* i = begin; i != end; ++i) {
+    sum += v[*i];
+    for (const int* j = i + 1; j != end; ++j)
+      sum += 2.0 * SharedNoiseCorrelation(points.matches[*i], points.matches[*j]) *
+             std::sqrt(v[*i] * v[*j]);
+  }
+  return sum / (count * count);
+}
+
+}  // namespace
+
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
   if (!(cell_m > 0.0)) return points;
   const bool weighted = !points.height_variances_m2.empty();
@@ -147,13 +190,13 @@ KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m) {
       const int count = grid.Count(c, r);
       if (count == 0) continue;
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      double variance_sum = 0.0;
-      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
-        sum += points.positions[*i];
-        if (weighted) variance_sum += points.height_variances_m2[*i];
-      }
+      for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) sum += points.positions[*i];
       thinned.positions.push_back(sum / count);
-      if (weighted) thinned.height_variances_m2.push_back(variance_sum / count);
+      if (weighted)
+        thinned.height_variances_m2.push_back(
+            MeanVariance(points, grid.begin(c, r), grid.end(c, r)));
+      if (!points.matches.empty())
+        thinned.matches.push_back(MeanMatch(points.matches, grid.begin(c, r), grid.end(c, r)));
     }
   return thinned;
 }
@@ -173,13 +216,53 @@ std::vector<double> NuggetsOf(const KrigingPoints& points, const VariogramModel&
 
 struct Estimate {
   double z = 0.0, variance = 0.0;
+  // With a held-out point at (x, y): the covariance of the estimate's error with its noise, the
+  // weighted share of image noise it has with the neighbours.
+  double held_out_covariance = 0.0;
 };
+
+// A point held out of kriging and predicted from the rest.
+struct HeldOut {
+  const PointMatch* match = nullptr;
+  double nugget = 0.0;
+};
+
+// What the kriging system, whose nuggets are independent, leaves out of its estimate's variance:
+// the weighted covariances of the neighbours' errors that share image noise,
+// sum over i != j of w_i w_j rho_ij sqrt(nugget_i nugget_j).
+double SharedNoiseVariance(const std::vector<Candidate>& near, const Eigen::VectorXd& weights,
+                           const std::vector<double>& nugget,
+                           const std::vector<PointMatch>& matches) {
+  double variance = 0.0;
+  for (size_t i = 0; i < near.size(); ++i) {
+    const PointMatch& a = matches[near[i].index];
+    if (a.pair < 0) continue;
+    const double weighted_sd = weights[i] * std::sqrt(nugget[near[i].index]);
+    for (size_t j = i + 1; j < near.size(); ++j) {
+      const PointMatch& b = matches[near[j].index];
+      if (b.pair != a.pair) continue;  // most neighbours: no correlation to look up
+      variance += 2.0 * weighted_sd * weights[j] * std::sqrt(nugget[near[j].index]) *
+                  SharedNoiseCorrelation(a, b);
+    }
+  }
+  return variance;
+}
+
+// The matches of KrigingPoints::All(): none for the surveyed points; empty if the points have
+// none.
+std::vector<PointMatch> MatchesOfAll(const KrigingPoints& points) {
+  if (points.matches.empty()) return {};
+  std::vector<PointMatch> all = points.matches;
+  all.resize(points.positions.size() + points.surveyed.size());
+  return all;
+}
 
 // The kriged surface at (x, y), or none where the nearest point is beyond max_distance_m.
 std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::Vector3d>& points,
-                                const std::vector<double>& nugget, const VariogramModel& model,
+                                const std::vector<double>& nugget,
+                                const std::vector<PointMatch>& matches, const VariogramModel& model,
                                 const KrigingOptions& o, double x, double y,
-                                NeighbourSearch* search) {
+                                NeighbourSearch* search, HeldOut held_out = {}) {
   const std::vector<Candidate>& near = search->near;
   FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, search);
   if (near.empty() || near.front().distance > o.max_distance_m) return std::nullopt;
@@ -217,7 +300,14 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
   if (!solution.allFinite()) return std::nullopt;
   Estimate e;
   for (int i = 0; i < n; ++i) e.z += solution[i] * points[near[i].index].z();
-  e.variance = std::max(0.0, model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n]);
+  e.variance = model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n];
+  if (!matches.empty()) e.variance += SharedNoiseVariance(near, solution, nugget, matches);
+  e.variance = std::max(0.0, e.variance);
+  if (held_out.match && !matches.empty())
+    for (int i = 0; i < n; ++i)
+      e.held_out_covariance += solution[i] *
+                               SharedNoiseCorrelation(*held_out.match, matches[near[i].index]) *
+                               std::sqrt(nugget[near[i].index] * held_out.nugget);
   return e;
 }
 
@@ -230,6 +320,7 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
   CheckVariances(kriging_points, "KrigeOnto");
   const std::vector<Eigen::Vector3d> points = kriging_points.All();
   const std::vector<double> nugget = NuggetsOf(kriging_points, model);
+  const std::vector<PointMatch> matches = MatchesOfAll(kriging_points);
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
@@ -239,8 +330,9 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
     NeighbourSearch search;
     for (int row = rows.start; row < rows.end; ++row)
       for (int col = 0; col < dem->cols; ++col) {
-        const std::optional<Estimate> e = KrigeAt(
-            grid, points, nugget, model, o, dem->CellCentreX(col), dem->CellCentreY(row), &search);
+        const std::optional<Estimate> e =
+            KrigeAt(grid, points, nugget, matches, model, o, dem->CellCentreX(col),
+                    dem->CellCentreY(row), &search);
         if (!e) continue;
         dem->at(row, col) = static_cast<float>(e->z);
         std_dev->at(row, col) = static_cast<float>(std::sqrt(e->variance));
@@ -281,8 +373,10 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
     training.positions.push_back(points.positions[i]);
     if (!points.height_variances_m2.empty())
       training.height_variances_m2.push_back(points.height_variances_m2[i]);
+    if (!points.matches.empty()) training.matches.push_back(points.matches[i]);
   }
   const std::vector<Eigen::Vector3d> all = training.All();
+  const std::vector<PointMatch> matches = MatchesOfAll(training);
   if (all.empty()) return none;
   // Each model's nuggets of the training points, which weigh them, and of all the points, the
   // noise of a held-out one that its prediction does not know.
@@ -303,11 +397,15 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
         for (int k = range.start; k < range.end; ++k) {
           const Eigen::Vector3d& p = points.positions[predicted_points[k]];
           for (size_t m = 0; m < kinds; ++m) {
-            const std::optional<Estimate> e =
-                KrigeAt(grid, all, nuggets[m], models[m], o, p.x(), p.y(), &search);
+            const double nugget = held_out_nuggets[m][predicted_points[k]];
+            const HeldOut held_out{
+                points.matches.empty() ? nullptr : &points.matches[predicted_points[k]], nugget};
+            const std::optional<Estimate> e = KrigeAt(grid, all, nuggets[m], matches, models[m], o,
+                                                      p.x(), p.y(), &search, held_out);
             if (!e) continue;
             error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
-            variance[k * kinds + m] = e->variance + held_out_nuggets[m][predicted_points[k]];
+            // The held-out point's noise, less what it shares with the neighbours predicting it.
+            variance[k * kinds + m] = e->variance + nugget - 2.0 * e->held_out_covariance;
           }
         }
       });
@@ -342,7 +440,7 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   // a slope's s^2 h^2 / 2, is what the drift takes out; left in, it overstates the std.
   result.experimental = ComputeExperimentalVariogram(
       o.linear_drift ? ResidualsFromPlane(thinned.positions) : thinned.positions, o.variogram,
-      o.signal_variogram ? thinned.height_variances_m2 : std::vector<double>{});
+      o.signal_variogram ? thinned.height_variances_m2 : std::vector<double>{}, thinned.matches);
   // The kind of variogram that predicts held-out ground best, its heights and their std: the
   // fits differ most in how they bridge gaps, which their fit to the variogram's bins does not
   // show.

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/options.h"
+#include "processing/dem/shared_noise.h"
 #include "processing/dem/variogram.h"
 #include "processing/io/raster.h"
 
@@ -107,14 +108,20 @@ struct KrigingPoints {
   std::vector<Eigen::Vector3d> positions;
   std::vector<double> height_variances_m2;
   std::vector<Eigen::Vector3d> surveyed;
+  // Empty (errors independent) or one per position: kriging's std adds what the weights of
+  // points whose errors correlate (SharedNoiseCorrelation) do not average away.
+  std::vector<PointMatch> matches = {};
   // The matched and the surveyed points in one list.
   std::vector<Eigen::Vector3d> All() const;
 };
 
-// Thins the points to one mean point per thin_cell_m square; the mean's variance is the
-// members' mean variance, not that over their count: the points of one square were matched in
-// windows that overlap (a far window's footprint runs a metre or more along the ground), so
-// their errors are one error, which averaging does not shrink.
+// Thins the points to one mean point per thin_cell_m square. The mean's variance is that of
+// the members' mean with their shared noise (SharedNoiseCorrelation): a far square's points
+// were matched in windows that overlap (a far window's footprint runs a metre or more along the
+// ground), so their errors are nearly one error, which averaging does not shrink; a near
+// square holds windows of their own. Without matches, all are taken as one error (the members'
+// mean variance). The mean's match is the mean window of the members of the pair most of them
+// came from.
 KrigingPoints ThinPoints(const KrigingPoints& points, double cell_m);
 
 // Fits the variogram to the (thinned) points and krige onto `grid` (its geometry is used;

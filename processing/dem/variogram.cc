@@ -26,12 +26,15 @@ bool VariogramOptions::Check(std::string* why) const {
 
 ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vector3d>& points,
                                                    const VariogramOptions& o,
-                                                   const std::vector<double>& noise) {
+                                                   const std::vector<double>& noise,
+                                                   const std::vector<PointMatch>& matches) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("VariogramOptions: " + why);
   if (!noise.empty() && noise.size() != points.size())
     throw std::invalid_argument(
         "ComputeExperimentalVariogram: one noise variance per point, or none");
+  if (!matches.empty() && matches.size() != points.size())
+    throw std::invalid_argument("ComputeExperimentalVariogram: one match per point, or none");
   std::vector<int> sample(points.size());
   std::iota(sample.begin(), sample.end(), 0);
   if (static_cast<int>(sample.size()) > o.max_points) {
@@ -55,7 +58,12 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
             : std::min(bins - 1, short_bins + static_cast<int>((h - o.short_lag_m) / o.bin_m));
     sum_h[bin] += h;
     sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
-    if (!noise.empty()) sum_noise[bin] += 0.5 * (noise[i] + noise[j]);
+    if (!noise.empty()) {
+      const double shared = matches.empty() ? 0.0
+                                            : SharedNoiseCorrelation(matches[i], matches[j]) *
+                                                  std::sqrt(noise[i] * noise[j]);
+      sum_noise[bin] += 0.5 * (noise[i] + noise[j]) - shared;
+    }
     count[bin] += 1.0;
   };
   for (size_t a = 0; a < sample.size(); ++a)

@@ -12,7 +12,9 @@
 #include <random>
 #include <string>
 #include <vector>
+
 #include "core/options.h"
+#include "processing/dem/shared_noise.h"
 
 namespace ts {
 
@@ -53,10 +55,12 @@ struct VariogramOptions {
 // difference less its two noise variances is what the bins average: the variogram of the
 // surface, not of the points. Kriging puts each point's noise on its own diagonal; left in the
 // variogram too, a flat field's matching noise, correlated over a window's footprint, reads as
-// relief, and the std counts the noise twice.
+// relief, and the std counts the noise twice. With each point's match (shared_noise.h), a
+// pair's noise is less what the two points share: it cancels in their difference.
 ExperimentalVariogram ComputeExperimentalVariogram(
     const std::vector<Eigen::Vector3d>& points, const VariogramOptions& options,
-    const std::vector<double>& noise_variances_m2 = {});
+    const std::vector<double>& noise_variances_m2 = {},
+    const std::vector<PointMatch>& matches = {});
 
 enum class VariogramKind { kSpherical, kExponential, kGaussian, kMatern32 };
 const char* VariogramKindName(VariogramKind kind);

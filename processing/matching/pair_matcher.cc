@@ -324,15 +324,17 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     const double disparity = p.x - lsm.position_px.x();
     if (std::abs(back - disparity) > o.max_consistency_px + 0.5) continue;
     ++s.consistent;
+    const cv::Size half_window = LsmHalfWindow(c, o, d, half);
     if (o.max_other_surface_share < 1.0 &&
-        OtherSurfaceShare(left_map, right_map, p, disparity, lsm, LsmHalfWindow(c, o, d, half),
+        OtherSurfaceShare(left_map, right_map, p, disparity, lsm, half_window,
                           o.max_consistency_px + (1 << left_map.level),
                           &off_surface) > o.max_other_surface_share)
       continue;
     ++s.one_surface;
     if (o.min_spacing_m > 0.0) spacing.Take(p.x, p.y, approx);
     matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,
-                       o.sigma_scale * lsm.sigma_x_px, lsm.correlation});
+                       o.sigma_scale * lsm.sigma_x_px, lsm.correlation,
+                       Eigen::Vector2d(half_window.width, half_window.height)});
   }
   s.matching_s = SecondsSince(&clock);
   if (summary) *summary = s;

@@ -147,6 +147,9 @@ struct StereoMatch {
   double disparity_px = 0.0;
   double sigma_disparity_px = 0.0;
   double correlation = 0.0;
+  // Half the least-squares window's width and height, full-resolution pixels: matches whose
+  // windows overlap share image noise, and so their errors.
+  Eigen::Vector2d half_window_px{0, 0};
 };
 
 struct PairMatchSummary {

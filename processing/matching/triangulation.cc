@@ -29,6 +29,7 @@ void AppendPairPoints(const Rectification& r, const std::vector<StereoMatch>& ma
     q.pair = pair;
     q.correlation = static_cast<float>(m.correlation);
     q.sigma_disparity_px = static_cast<float>(m.sigma_disparity_px);
+    q.window = {m.left_px.cast<float>(), m.half_window_px.cast<float>()};
     cloud->push_back(q);
   }
 }

@@ -77,13 +77,14 @@ bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s)
 bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   const UndersidePatches underside =
       FindUndersidePatches(w->kept, w->ground_of_kept, w->station_viewpoint, o.underside_patches);
-  const PointCloud& cloud = w->cloud;
   for (size_t i = 0; i < w->kept.size(); ++i) {
     const bool is_ground = w->ground_of_kept[i] && !underside.underside[i];
     w->point_class[w->kept_index[i]] = is_ground ? kGround : kObject;
     if (!is_ground) continue;
     w->ground.positions.push_back(w->kept[i]);
-    w->ground.height_variances_m2.push_back(cloud[w->kept_index[i]].covariance_m2(2, 2));
+    const CloudPoint& point = w->cloud[w->kept_index[i]];
+    w->ground.height_variances_m2.push_back(point.covariance_m2(2, 2));
+    w->ground.matches.push_back({point.pair, point.window});
   }
   s->counts = {{"underside_patches", underside.underside_patches},
                {"patches_among_objects", underside.among_objects},

@@ -38,6 +38,20 @@ TEST(PairMatching, DisparitiesAgreeWithTheTrueSurface) {
   // frame (independent of the renderer: a march along the ray).
   const Eigen::Isometry3d l_from_camera = cal.LFromCamera(Side::kLeft, pan, tilt);
   std::vector<double> errors;
+  // Each match names the window it was fitted in (full-resolution pixels), which the DEM's std
+  // needs to know which points share noise: the near ones' at half resolution, the far ones'.
+  const PairMatchOptions o;
+  const Eigen::Vector2d near_window(2 * o.near_lsm.half_window_px, 2 * o.near_lsm.half_window_px),
+      middle_window(o.lsm.half_window_px, o.lsm.half_window_px),
+      far_window(o.far_lsm.half_window_px, o.far_lsm.half_height_px);
+  std::map<std::pair<double, double>, int> windows;
+  for (const StereoMatch& m : matches) {
+    EXPECT_TRUE(m.half_window_px == near_window || m.half_window_px == middle_window ||
+                m.half_window_px == far_window)
+        << m.half_window_px.transpose();
+    ++windows[{m.half_window_px.x(), m.half_window_px.y()}];
+  }
+  EXPECT_EQ(windows.size(), 3u);
   for (const StereoMatch& m : matches) {
     const Eigen::Vector3d ray_rect(m.left_px.x() - r.principal_point_px.x(),
                                    m.left_px.y() - r.principal_point_px.y(), r.focal_px);

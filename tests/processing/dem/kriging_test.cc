@@ -99,6 +99,57 @@ TEST(Kriging, ThinningAveragesPositionsAndKeepsTheMeanVariance) {
   }
 }
 
+// Points matched in windows that share pixels share their noise: a square's mean averages away
+// only what they do not share. Four points of variance v: four pairs, or four windows of one
+// pair side by side, v / 4; one window, v; two windows half over each other, (2 v + v) / 4.
+TEST(Kriging, ThinningAveragesAwayOnlyTheNoiseTheWindowsDoNotShare) {
+  const double v = 0.04;
+  const KrigingPoints square{
+      {{0.1, 0.1, 1.0}, {0.2, 0.1, 2.0}, {0.3, 0.2, 3.0}, {0.4, 0.3, 4.0}}, {v, v, v, v}, {}};
+  auto thinned_variance = [&](std::vector<PointMatch> matches) {
+    KrigingPoints points = square;
+    points.matches = std::move(matches);
+    const KrigingPoints thinned = ThinPoints(points, 0.5);
+    EXPECT_EQ(thinned.matches.size(), 1u);
+    return thinned.height_variances_m2.at(0);
+  };
+  const MatchWindow window{{100, 50}, {10, 10}};
+  EXPECT_NEAR(thinned_variance({{1, window}, {2, window}, {3, window}, {4, window}}), v / 4, 1e-12);
+  EXPECT_NEAR(thinned_variance({{1, window}, {1, window}, {1, window}, {1, window}}), v, 1e-12);
+  std::vector<PointMatch> side_by_side;
+  for (int k = 0; k < 4; ++k) side_by_side.push_back({1, {{100.0f + 21 * k, 50}, {10, 10}}});
+  EXPECT_NEAR(thinned_variance(side_by_side), v / 4, 1e-12);
+  const MatchWindow half_over{{110.5f, 50}, {10, 10}};
+  KrigingPoints two{{{0.1, 0.1, 1.0}, {0.2, 0.1, 2.0}}, {v, v}, {}, {{1, window}, {1, half_over}}};
+  EXPECT_NEAR(ThinPoints(two, 0.5).height_variances_m2.at(0), 0.75 * v, 1e-6);
+  // The mean's match: the pair most members came from, their mean window.
+  KrigingPoints mixed = square;
+  mixed.matches = {{7, window}, {5, window}, {7, half_over}, {7, half_over}};
+  const PointMatch mean = ThinPoints(mixed, 0.5).matches.at(0);
+  EXPECT_EQ(mean.pair, 7);
+  EXPECT_NEAR(mean.window.centre_px.x(), (100 + 2 * 110.5) / 3, 1e-4);
+}
+
+// Four points at 2 m around a cell, each of variance v: ordinary kriging weighs each 1/4. Their
+// errors independent (four pairs), the cell's variance is kriging's own; all of one window,
+// the weighted covariances add sum over i != j of v / 16 = 3 v / 4: a mean of one error.
+TEST(Kriging, NeighboursSharingTheirNoiseDoNotAverageItAway) {
+  const VariogramModel m = Linearish();
+  const double v = 0.09;
+  KrigingPoints points{{{2, 0, 1.0}, {-2, 0, 1.2}, {0, 2, 0.9}, {0, -2, 1.1}}, {v, v, v, v}, {}};
+  Raster dem = OneCell(0, 0), std_plain, std_pairs, std_shared;
+  KrigeOnto(points, m, KrigingOptions{}, &dem, &std_plain);
+  const MatchWindow window{{100, 50}, {10, 10}};
+  points.matches = {{1, window}, {2, window}, {3, window}, {4, window}};
+  KrigeOnto(points, m, KrigingOptions{}, &dem, &std_pairs);
+  EXPECT_NEAR(std_pairs.at(0, 0), std_plain.at(0, 0), 1e-6);
+  points.matches = {{1, window}, {1, window}, {1, window}, {1, window}};
+  KrigeOnto(points, m, KrigingOptions{}, &dem, &std_shared);
+  EXPECT_NEAR(dem.at(0, 0), 1.05, 1e-5);
+  const double plain = std_plain.at(0, 0);
+  EXPECT_NEAR(std_shared.at(0, 0), std::sqrt(plain * plain + 0.75 * v), 1e-5);
+}
+
 // Two points symmetric about the cell centre: lambda = 1/2 each, mu = gamma(d) - gamma(2d)/2,
 // sigma^2 = 2 gamma(d) - gamma(2d) / 2.
 TEST(Kriging, TwoSymmetricPointsAreAveragedWithTheKnownVariance) {

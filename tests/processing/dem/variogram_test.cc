@@ -95,6 +95,46 @@ TEST(Variogram, EachPointsOwnNoiseIsTakenOutOfItsPairs) {
   }
 }
 
+// Two points matched in one window carry one error, which cancels in their difference: their
+// pair's noise is none. Sites 1 m apart on a gentle surface, each seen as two points 0.1 m
+// apart in one window (one pair per site); their short bin's noise is what the sites' other,
+// independent neighbours bring, and its gamma the surface's, not the surface's less the noise.
+TEST(Variogram, NoiseTwoPointsShareCancelsInTheirDifference) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  auto surface = [](double x, double y) { return 0.3 * std::sin(x / 3.0) * std::cos(y / 4.0); };
+  const double sigma = 0.02;
+  std::vector<Eigen::Vector3d> points, exact;
+  std::vector<double> variances;
+  std::vector<PointMatch> matches;
+  int site = 0;
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j, ++site) {
+      const double error = sigma * unit(rng);
+      for (const double dx : {0.0, 0.1}) {
+        const double x = i + dx, y = j;
+        points.emplace_back(x, y, surface(x, y) + error);
+        exact.emplace_back(x, y, surface(x, y));
+        variances.push_back(sigma * sigma);
+        matches.push_back({site, {{100, 100}, {10, 10}}});
+      }
+    }
+  VariogramOptions o;
+  o.max_points = 2000;
+  const ExperimentalVariogram truth = ComputeExperimentalVariogram(exact, o);
+  const ExperimentalVariogram shared = ComputeExperimentalVariogram(points, o, variances, matches);
+  const ExperimentalVariogram independent = ComputeExperimentalVariogram(points, o, variances);
+  ASSERT_FALSE(truth.gamma.empty());
+  ASSERT_NEAR(truth.lag_m[0], 0.1, 1e-9);  // the first bin holds the twins alone
+  EXPECT_NEAR(shared.noise[0], 0.0, 1e-12);
+  EXPECT_NEAR(independent.noise[0], sigma * sigma, 1e-12);
+  EXPECT_NEAR(shared.gamma[0], truth.gamma[0], 1e-12);
+  EXPECT_EQ(independent.gamma[0], 0.0);  // the surface's 0.1 m less the noise: below zero
+  // Beyond the twins, pairs of different sites: their noise counted in full either way.
+  for (size_t i = 1; i < shared.noise.size(); ++i)
+    EXPECT_NEAR(shared.noise[i], independent.noise[i], 0.05 * sigma * sigma) << shared.lag_m[i];
+}
+
 // A Gaussian model without a nugget is not chosen even where it would fit best.
 TEST(Variogram, GaussianWithoutNuggetIsNotChosen) {
   ExperimentalVariogram e;
