@@ -171,8 +171,7 @@ double MeanVariance(const KrigingPoints& points, const int* begin, const int* en
   for (const int* i = begin; i != end; ++i) {
     sum += v[*i];
     for (const int* j = i + 1; j != end; ++j)
-      sum += 2.0 * SharedNoiseCorrelation(points.matches[*i], points.matches[*j]) *
-             std::sqrt(v[*i] * v[*j]);
+      sum += 2.0 * SharedNoiseCovariance(points.matches[*i], v[*i], points.matches[*j], v[*j]);
   }
   return sum / (count * count);
 }
@@ -234,17 +233,12 @@ double SharedNoiseVariance(const std::vector<Candidate>& near, const Eigen::Vect
                            const std::vector<double>& nugget,
                            const std::vector<PointMatch>& matches) {
   double variance = 0.0;
-  for (size_t i = 0; i < near.size(); ++i) {
-    const PointMatch& a = matches[near[i].index];
-    if (a.pair < 0) continue;
-    const double weighted_sd = weights[i] * std::sqrt(nugget[near[i].index]);
+  for (size_t i = 0; i < near.size(); ++i)
     for (size_t j = i + 1; j < near.size(); ++j) {
-      const PointMatch& b = matches[near[j].index];
-      if (b.pair != a.pair) continue;  // most neighbours: no correlation to look up
-      variance += 2.0 * weighted_sd * weights[j] * std::sqrt(nugget[near[j].index]) *
-                  SharedNoiseCorrelation(a, b);
+      const int a = near[i].index, b = near[j].index;
+      variance += 2.0 * weights[i] * weights[j] *
+                  SharedNoiseCovariance(matches[a], nugget[a], matches[b], nugget[b]);
     }
-  }
   return variance;
 }
 
@@ -305,9 +299,9 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
   e.variance = std::max(0.0, e.variance);
   if (held_out.match && !matches.empty())
     for (int i = 0; i < n; ++i)
-      e.held_out_covariance += solution[i] *
-                               SharedNoiseCorrelation(*held_out.match, matches[near[i].index]) *
-                               std::sqrt(nugget[near[i].index] * held_out.nugget);
+      e.held_out_covariance +=
+          solution[i] * SharedNoiseCovariance(*held_out.match, held_out.nugget,
+                                              matches[near[i].index], nugget[near[i].index]);
   return e;
 }
 

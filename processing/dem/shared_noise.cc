@@ -24,4 +24,10 @@ double SharedNoiseCorrelation(const PointMatch& a, const PointMatch& b) {
          AxisOverlap(u.centre_px.y(), u.half_size_px.y(), v.centre_px.y(), v.half_size_px.y());
 }
 
+double SharedNoiseCovariance(const PointMatch& a, double variance_a, const PointMatch& b,
+                             double variance_b) {
+  const double rho = SharedNoiseCorrelation(a, b);
+  return rho > 0.0 ? rho * std::sqrt(variance_a * variance_b) : 0.0;
+}
+
 }  // namespace ts

@@ -22,4 +22,9 @@ struct PointMatch {
 // between pairs).
 double SharedNoiseCorrelation(const PointMatch& a, const PointMatch& b);
 
+// The covariance of two points' errors of the given variances: their correlation times both
+// standard deviations.
+double SharedNoiseCovariance(const PointMatch& a, double variance_a, const PointMatch& b,
+                             double variance_b);
+
 }  // namespace ts

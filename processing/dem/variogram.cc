@@ -58,12 +58,11 @@ ExperimentalVariogram ComputeExperimentalVariogram(const std::vector<Eigen::Vect
             : std::min(bins - 1, short_bins + static_cast<int>((h - o.short_lag_m) / o.bin_m));
     sum_h[bin] += h;
     sum_sq[bin] += (p.z() - q.z()) * (p.z() - q.z());
-    if (!noise.empty()) {
-      const double shared = matches.empty() ? 0.0
-                                            : SharedNoiseCorrelation(matches[i], matches[j]) *
-                                                  std::sqrt(noise[i] * noise[j]);
-      sum_noise[bin] += 0.5 * (noise[i] + noise[j]) - shared;
-    }
+    if (!noise.empty())
+      sum_noise[bin] +=
+          0.5 * (noise[i] + noise[j]) -
+          (matches.empty() ? 0.0
+                           : SharedNoiseCovariance(matches[i], noise[i], matches[j], noise[j]));
     count[bin] += 1.0;
   };
   for (size_t a = 0; a < sample.size(); ++a)

@@ -97,8 +97,8 @@ TEST(Variogram, EachPointsOwnNoiseIsTakenOutOfItsPairs) {
 
 // Two points matched in one window carry one error, which cancels in their difference: their
 // pair's noise is none. Sites 1 m apart on a gentle surface, each seen as two points 0.1 m
-// apart in one window (one pair per site); their short bin's noise is what the sites' other,
-// independent neighbours bring, and its gamma the surface's, not the surface's less the noise.
+// apart in one window (one pair per site): the shortest bin holds those twins alone, its noise
+// is none and its gamma the surface's, not the surface's less the noise.
 TEST(Variogram, NoiseTwoPointsShareCancelsInTheirDifference) {
   std::mt19937 rng(9);
   std::normal_distribution<double> unit(0.0, 1.0);
