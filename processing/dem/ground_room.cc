@@ -226,8 +226,12 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       // The centre of a cell seen at one corner is as unseen as ground that far from a point.
       // Ground with points all around the centre shows its own turns: in the points' departure
       // from the DEM here, and in kriging's sigma between them.
-      double room = 0.5 * turn.at<float>(r, c) * fine_points.DistanceToCentre(r, c);
-      if (count[cell] > 0 && fine_points.CentreSurrounded(r, c, dem.cell_m)) room = 0.0;
+      // Behind a brow such a centre may lie in the hidden stretch below the lines that grazed
+      // it (a terrace's lip seen in the cell, its lower tread at the centre).
+      double room = 0.0;
+      if (count[cell] == 0 || !fine_points.CentreSurrounded(r, c, dem.cell_m))
+        room = std::max(0.5 * turn.at<float>(r, c) * fine_points.DistanceToCentre(r, c),
+                        ShadowStd(dem.at(r, c), sight, r, c));
       double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;
@@ -235,7 +239,6 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
         departures.push_back(departure);
       } else {
         ++result.unseen_cells;
-        room = std::max(room, ShadowStd(dem.at(r, c), sight, r, c));
         widening.push_back(room);
       }
       s = static_cast<float>(std::sqrt(double(s) * s + departure * departure + room * room));

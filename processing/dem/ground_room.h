@@ -16,11 +16,12 @@
 //    nearest) shows its own turns, in the departure above and in kriging's sigma: no room. The
 //    lines of sight above (free_space.h) have already taken the DEM down to where the ground can
 //    be.
-//  - in a cell nobody saw behind a brow, the room below: the lowest line of sight over it
-//    grazed the brow and landed on the first ground seen past (a terrace's lower tread, a
-//    dike's far field, a gully's far wall), and kriging bridged the DEM across. The ground
-//    plausibly lies anywhere down to that landing; the RMS distance to it is taken, if it
-//    exceeds the turn's room (the two bound the same unknown).
+//  - in a cell nobody saw behind a brow, or whose centre lies beyond the points it holds (a
+//    terrace's lip in the cell, its lower tread at the centre), the room below: the lowest
+//    line of sight over it grazed the brow and landed on the first ground seen past (a
+//    terrace's lower tread, a dike's far field, a gully's far wall), and kriging bridged the
+//    DEM across. The ground plausibly lies anywhere down to that landing; the RMS distance to
+//    it is taken, if it exceeds the turn's room (the two bound the same unknown).
 #include <string>
 #include <vector>
 

@@ -127,8 +127,8 @@ TEST(GroundRoom, GroundHiddenBehindABrowMayLieDownToWhereTheLowestLineLanded) {
 // centres from x = 4.5 m on is the ground's line) shows its own turns: kriging's std is left
 // as it is. The centre of a cell seen only along its western edge (x 7-8 m) lies
 // beyond the data, 0.5 m from them on the quarter-cell grid the distances are measured on:
-// the turn's room 0.4 * 0.5 / 2 is added.
-TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheTurnsRoom) {
+// the turn's room 0.4 * 0.5 / 2 is added, or the room down to where a line over it landed.
+TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheRoomOfGroundNobodySaw) {
   auto kinked = [](double x) { return 0.2 * std::abs(x - 4.0); };
   KrigingPoints ground;
   Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), std = dem;
@@ -139,9 +139,24 @@ TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheTurnsRoom) {
     }
   for (double y = 0.125; y < 20.0; y += 0.25)
     for (double x = 0.125; x < 7.25; x += 0.25) ground.positions.emplace_back(x, y, kinked(x));
+  const Raster kriged_std = std;
   WidenStdByGroundRoom(ground, dem, nullptr, {}, &std);
   EXPECT_NEAR(std.at(10, 6), 0.01, 1e-4);
   EXPECT_NEAR(std.at(10, 7), std::hypot(0.01, 0.5 * 0.4 * 0.5), 0.005);
+
+  // The same cells under lines of sight that grazed the lip at x = 7.25 m and landed on ground
+  // 1.2 m below the DEM (a terrace's lower tread): the centre beyond the lip may lie anywhere
+  // down to it, the one with points all around it may not.
+  SightLineCeilings sight;
+  sight.per_cell = sight.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  for (const int c : {6, 7}) {
+    sight.per_cell.at(10, c) = dem.at(10, c) + 0.3f;
+    sight.landing_per_cell.at(10, c) = dem.at(10, c) - 1.2f;
+  }
+  Raster under_lines = kriged_std;
+  WidenStdByGroundRoom(ground, dem, &sight, {}, &under_lines);
+  EXPECT_NEAR(under_lines.at(10, 6), 0.01, 1e-4);
+  EXPECT_NEAR(under_lines.at(10, 7), std::hypot(0.01, 1.2 / std::sqrt(3.0)), 1e-4);
 }
 
 }  // namespace
