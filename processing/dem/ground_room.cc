@@ -223,11 +223,10 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       float& s = std_dev->at(r, c);
       if (Raster::IsNoData(dem.at(r, c)) || Raster::IsNoData(s)) continue;
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
-      // The centre of a cell seen at one corner is as unseen as ground that far from a point.
-      // Ground with points all around the centre shows its own turns: in the points' departure
-      // from the DEM here, and in kriging's sigma between them.
-      // Behind a brow such a centre may lie in the hidden stretch below the lines that grazed
-      // it (a terrace's lip seen in the cell, its lower tread at the centre).
+      // The centre of a cell seen at one corner is as unseen as ground that far from a point:
+      // it gets the turn's room and, behind a brow, the room below (a terrace's lip seen in the
+      // cell, its lower tread at the centre). Ground with points all around the centre shows
+      // its own turns: in the points' departure from the DEM here, and in kriging's sigma.
       double room = 0.0;
       if (count[cell] == 0 || !fine_points.CentreSurrounded(r, c, dem.cell_m))
         room = std::max(0.5 * turn.at<float>(r, c) * fine_points.DistanceToCentre(r, c),

@@ -8,7 +8,7 @@
 //    sigma, free_space.h): whether the DEM keeps to the lines process had;
 //  - the true line, along the same ray to where it first meets the true ground: whether the
 //    DEM stands where the cameras truly saw through. A point matched short of the ground (a
-//    window blending a brow and the ground behind it) raises the DEM into that space.
+//    far wall's window matched a pixel or two off) raises the DEM into that space.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
