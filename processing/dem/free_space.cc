@@ -145,9 +145,11 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
 }
 
 FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const FreeSpaceOptions& o,
-                                     Raster* dem) {
+                                     Raster* dem, Raster* std) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
+  if (std && std->values.size() != dem->values.size())
+    throw std::invalid_argument("LowerBelowSightLines: the std grid differs from the DEM's");
   FreeSpaceResult result;
   if (!o.enabled) return result;
   // Each ceiling as a half-space over the four cells of its bilinear interpolation.
@@ -196,6 +198,8 @@ FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const Fr
     dem->values[i] = static_cast<float>(z[i]);
     const double d = before[i] - dem->values[i];
     if (d <= kLowered) continue;
+    if (std && !Raster::IsNoData(std->values[i]))
+      std->values[i] = static_cast<float>(std::hypot(std->values[i], d));
     ++result.cells_lowered;
     lowering += d;
     result.max_lowering_m = std::max(result.max_lowering_m, d);

@@ -75,8 +75,10 @@ struct FreeSpaceResult {
 };
 
 // Lowers `dem` (nodata cells stay) until its bilinear surface is below every ceiling whose
-// four cells have data.
+// four cells have data. A lowered cell's `std` (if given) spans its lowering in quadrature: the
+// points kriged there stood above a line another point proved clear, by at least that much.
 FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings,
-                                     const FreeSpaceOptions& options, Raster* dem);
+                                     const FreeSpaceOptions& options, Raster* dem,
+                                     Raster* std = nullptr);
 
 }  // namespace ts

@@ -190,7 +190,8 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
     lines.push_back(line);
   }
   w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space);
-  const FreeSpaceResult lowered = LowerBelowSightLines(w->ceilings, o.free_space, &w->kriged.dem);
+  const FreeSpaceResult lowered =
+      LowerBelowSightLines(w->ceilings, o.free_space, &w->kriged.dem, &w->kriged.std);
   s->counts = {{"sight_lines", lines.size()},
                {"ceilings", w->ceilings.ceilings.size()},
                {"cells_lowered", lowered.cells_lowered},

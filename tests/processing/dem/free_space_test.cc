@@ -115,6 +115,24 @@ TEST(FreeSpace, OnTheOutermostHalfCellTheNearestCellComesDown) {
   EXPECT_EQ(dem.at(0, 1), 0.0f);
 }
 
+// A cell brought down was kriged from points that stood above a line some other point proved
+// clear: they were wrong by at least the lowering, and the ground may lie anywhere below the
+// line. Its std spans the lowering, in quadrature with its own, as a cell lowered to the horizon
+// does (horizon_limit.h); a cell the lines left alone keeps its std.
+TEST(FreeSpace, ALoweredCellsStdSpansItsLowering) {
+  Raster dem = Raster::Make(0.0, 3.0, 1.0, 3, 3);
+  for (float& v : dem.values) v = 0.0f;
+  dem.at(0, 0) = 1.0f;
+  Raster std_dev = dem;
+  for (float& v : std_dev.values) v = 0.03f;
+  SightLineCeilings c;
+  c.ceilings.push_back({0.9, 2.9, 0.5, 0.0});
+  LowerBelowSightLines(c, {}, &dem, &std_dev);
+  EXPECT_NEAR(std_dev.at(0, 0), std::hypot(0.03, 0.5), 1e-6);
+  EXPECT_FLOAT_EQ(std_dev.at(0, 1), 0.03f);
+  EXPECT_FLOAT_EQ(std_dev.at(2, 2), 0.03f);
+}
+
 TEST(FreeSpace, NoDataCellsStayNoData) {
   Raster dem = Level(1.0);
   dem.at(10, 10) = Raster::kNoData;
