@@ -51,7 +51,7 @@ struct NeighbourSearch {
 // Up to n neighbours of (x, y) within the radius, balanced over the four quadrants, into
 // search->near.
 void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& points, double x,
-                    double y, int n, double radius, NeighbourSearch* search) {
+                    double y, int n, double radius, NeighbourSearch* search, int excluded = -1) {
   std::vector<Candidate>& out = search->near;
   std::vector<Candidate>& candidates = search->candidates;
   out.clear();
@@ -63,6 +63,7 @@ void FindNeighbours(const GridIndex& grid, const std::vector<Eigen::Vector3d>& p
       for (int c = c0 - ring; c <= c0 + ring; ++c) {
         if (std::max(std::abs(r - r0), std::abs(c - c0)) != ring || !grid.Inside(c, r)) continue;
         for (const int* i = grid.begin(c, r); i != grid.end(c, r); ++i) {
+          if (*i == excluded) continue;
           const double dx = points[*i].x() - x, dy = points[*i].y() - y;
           const double d2 = dx * dx + dy * dy;  // hypot's overflow guard costs here
           if (d2 <= radius * radius)
@@ -215,6 +216,7 @@ std::vector<double> NuggetsOf(const KrigingPoints& points, const VariogramModel&
 
 struct Estimate {
   double z = 0.0, variance = 0.0;
+  double noise_variance = 0.0;  // the part of variance that is the points' own noise
   // With a held-out point at (x, y): the covariance of the estimate's error with its noise, the
   // weighted share of image noise it has with the neighbours.
   double held_out_covariance = 0.0;
@@ -224,6 +226,7 @@ struct Estimate {
 struct HeldOut {
   const PointMatch* match = nullptr;
   double nugget = 0.0;
+  int index = -1;  // its index among the points kriged from, when it is one of them
 };
 
 // What the kriging system, whose nuggets are independent, leaves out of its estimate's variance:
@@ -258,13 +261,14 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
                                 const KrigingOptions& o, double x, double y,
                                 NeighbourSearch* search, HeldOut held_out = {}) {
   const std::vector<Candidate>& near = search->near;
-  FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, search);
+  FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, search, held_out.index);
   if (near.empty() || near.front().distance > o.max_distance_m) return std::nullopt;
   // Beyond the edge of the data the drift is extrapolated: from more neighbours, a slope of the
   // region rather than of the edge's last metre.
   if (o.linear_drift && static_cast<int>(near.size()) >= kMinDriftPoints &&
       o.extrapolation_neighbours > o.neighbours && BeyondTheEdge(points, near, x, y))
-    FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, search);
+    FindNeighbours(grid, points, x, y, o.extrapolation_neighbours, o.search_radius_m, search,
+                   held_out.index);
   const int n = static_cast<int>(near.size());
   // Local linear drift (universal kriging) where the points allow: a gap on a slope is bridged
   // along the slope, not levelled towards the neighbours' mean.
@@ -295,8 +299,14 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
   Estimate e;
   for (int i = 0; i < n; ++i) e.z += solution[i] * points[near[i].index].z();
   e.variance = model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n];
-  if (!matches.empty()) e.variance += SharedNoiseVariance(near, solution, nugget, matches);
+  for (int i = 0; i < n; ++i) e.noise_variance += solution[i] * solution[i] * nugget[near[i].index];
+  if (!matches.empty()) {
+    const double shared = SharedNoiseVariance(near, solution, nugget, matches);
+    e.variance += shared;
+    e.noise_variance += shared;
+  }
   e.variance = std::max(0.0, e.variance);
+  e.noise_variance = std::clamp(e.noise_variance, 0.0, e.variance);
   if (held_out.match && !matches.empty())
     for (int i = 0; i < n; ++i)
       e.held_out_covariance +=
@@ -307,8 +317,13 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
 
 }  // namespace
 
-void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
-               const KrigingOptions& o, Raster* dem, Raster* std_dev) {
+namespace {
+
+// Kriging onto `dem`'s cells; noise_variance (or none) gets each cell's share of its variance
+// that is the points' own noise.
+void KrigeCells(const KrigingPoints& kriging_points, const VariogramModel& model,
+                const KrigingOptions& o, Raster* dem, Raster* std_dev,
+                std::vector<double>* noise_variance) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("KrigingOptions: " + why);
   CheckVariances(kriging_points, "KrigeOnto");
@@ -318,6 +333,7 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
   *std_dev = *dem;
   std::fill(dem->values.begin(), dem->values.end(), Raster::kNoData);
   std::fill(std_dev->values.begin(), std_dev->values.end(), Raster::kNoData);
+  if (noise_variance) noise_variance->assign(dem->values.size(), 0.0);
   if (points.empty()) return;
   const GridIndex grid(points, std::max(0.5, o.max_distance_m / 2));
   cv::parallel_for_(cv::Range(0, dem->rows), [&](const cv::Range& rows) {
@@ -330,8 +346,140 @@ void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
         if (!e) continue;
         dem->at(row, col) = static_cast<float>(e->z);
         std_dev->at(row, col) = static_cast<float>(std::sqrt(e->variance));
+        if (noise_variance)
+          (*noise_variance)[static_cast<size_t>(row) * dem->cols + col] = e->noise_variance;
       }
   });
+}
+
+// A matched point predicted from all the others: its squared error, and the parts of its
+// predicted variance that are the surface's (which the variogram's sill scales) and noise's.
+struct HeldOutTest {
+  double x = 0.0, y = 0.0;
+  double error2 = 0.0, signal_variance = 0.0, noise_variance = 0.0;
+};
+
+// One test per cell with data: the matched point in the cell nearest its centre, held out.
+std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_points,
+                                                const VariogramModel& model,
+                                                const KrigingOptions& o, const Raster& dem) {
+  const std::vector<Eigen::Vector3d> points = kriging_points.All();
+  const std::vector<double> nugget = NuggetsOf(kriging_points, model);
+  const std::vector<PointMatch> matches = MatchesOfAll(kriging_points);
+  std::vector<int> nearest(dem.values.size(), -1);
+  std::vector<double> distance(dem.values.size(), std::numeric_limits<double>::infinity());
+  for (size_t i = 0; i < kriging_points.positions.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    int row = 0, col = 0;
+    if (!dem.CellOf(p.x(), p.y(), &row, &col)) continue;
+    const size_t cell = static_cast<size_t>(row) * dem.cols + col;
+    const double d = std::hypot(p.x() - dem.CellCentreX(col), p.y() - dem.CellCentreY(row));
+    if (!Raster::IsNoData(dem.values[cell]) && d < distance[cell])
+      distance[cell] = d, nearest[cell] = static_cast<int>(i);
+  }
+  std::vector<int> held;
+  for (const int i : nearest)
+    if (i >= 0) held.push_back(i);
+  std::vector<std::optional<HeldOutTest>> tests(held.size());
+  const GridIndex grid(points, std::max(0.5, o.max_distance_m / 2));
+  cv::parallel_for_(cv::Range(0, static_cast<int>(held.size())), [&](const cv::Range& range) {
+    NeighbourSearch search;
+    for (int k = range.start; k < range.end; ++k) {
+      const int i = held[k];
+      const HeldOut out{matches.empty() ? nullptr : &matches[i], nugget[i], i};
+      const Eigen::Vector3d& p = points[i];
+      const std::optional<Estimate> e =
+          KrigeAt(grid, points, nugget, matches, model, o, p.x(), p.y(), &search, out);
+      if (!e) continue;
+      // The held-out point's own noise, less what it shares with the neighbours predicting it.
+      const double noise = e->noise_variance + nugget[i] - 2.0 * e->held_out_covariance;
+      tests[k] = HeldOutTest{p.x(), p.y(), (e->z - p.z()) * (e->z - p.z()),
+                             e->variance - e->noise_variance, std::max(noise, 0.0)};
+    }
+  });
+  std::vector<HeldOutTest> done;
+  for (const std::optional<HeldOutTest>& t : tests)
+    if (t) done.push_back(*t);
+  return done;
+}
+
+// The factor on the surface's variance that makes the tests' errors Gaussian with the variance
+// claimed: the median of e^2 / (f s + n) is a chi-square's with one degree of freedom. The
+// median, not the mean: one held-out blunder (a bush left as ground) would set a mean, and a
+// cell is the mean of many points.
+double SignalScale(const std::vector<HeldOutTest>& tests, const std::vector<int>& in_window) {
+  constexpr double kChiSquare1Median = 0.454936;
+  std::vector<double> ratio(in_window.size());
+  auto median_ratio = [&](double f) {
+    for (size_t k = 0; k < in_window.size(); ++k) {
+      const HeldOutTest& t = tests[in_window[k]];
+      ratio[k] = t.error2 / std::max(f * t.signal_variance + t.noise_variance, 1e-12);
+    }
+    std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+    return ratio[ratio.size() / 2];
+  };
+  // The median falls as f grows: bisect on log f over twelve orders of magnitude.
+  double lo = -6.0, hi = 6.0;
+  if (median_ratio(std::pow(10.0, lo)) <= kChiSquare1Median) return 0.0;
+  if (median_ratio(std::pow(10.0, hi)) >= kChiSquare1Median) return std::pow(10.0, hi);
+  for (int k = 0; k < 40; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (median_ratio(std::pow(10.0, mid)) > kChiSquare1Median ? lo : hi) = mid;
+  }
+  return std::pow(10.0, 0.5 * (lo + hi));
+}
+
+}  // namespace
+
+void KrigeOnto(const KrigingPoints& kriging_points, const VariogramModel& model,
+               const KrigingOptions& o, Raster* dem, Raster* std_dev) {
+  KrigeCells(kriging_points, model, o, dem, std_dev, nullptr);
+}
+
+double RescaleStdByHeldOutPoints(const KrigingPoints& points, const VariogramModel& model,
+                                 const KrigingOptions& o, const Raster& dem,
+                                 const std::vector<double>& noise_variance, Raster* std_dev) {
+  if (!(o.held_out_window_m > 0.0)) return 1.0;
+  const std::vector<HeldOutTest> tests = HoldOutOnePointPerCell(points, model, o, dem);
+  if (tests.empty()) return 1.0;
+  std::vector<Eigen::Vector3d> at;
+  for (const HeldOutTest& t : tests) at.emplace_back(t.x, t.y, 0.0);
+  const GridIndex grid(at, o.held_out_window_m);
+  // The cells the tests speak for: those holding a matched point, as each test's cell does.
+  std::vector<char> holds_point(dem.values.size(), 0);
+  for (const Eigen::Vector3d& p : points.positions)
+    if (int row = 0, col = 0; dem.CellOf(p.x(), p.y(), &row, &col))
+      holds_point[static_cast<size_t>(row) * dem.cols + col] = 1;
+  std::vector<float> scale(dem.values.size(), std::numeric_limits<float>::quiet_NaN());
+  cv::parallel_for_(cv::Range(0, dem.rows), [&](const cv::Range& rows) {
+    std::vector<int> in_window;
+    for (int row = rows.start; row < rows.end; ++row)
+      for (int col = 0; col < dem.cols; ++col) {
+        const size_t cell = static_cast<size_t>(row) * dem.cols + col;
+        if (!holds_point[cell] || Raster::IsNoData(std_dev->values[cell])) continue;
+        const double x = dem.CellCentreX(col), y = dem.CellCentreY(row);
+        in_window.clear();
+        for (int r = grid.RowOf(y) - 1; r <= grid.RowOf(y) + 1; ++r)
+          for (int c = grid.ColOf(x) - 1; c <= grid.ColOf(x) + 1; ++c) {
+            if (!grid.Inside(c, r)) continue;
+            for (const int* k = grid.begin(c, r); k != grid.end(c, r); ++k)
+              if (std::hypot(tests[*k].x - x, tests[*k].y - y) <= o.held_out_window_m)
+                in_window.push_back(*k);
+          }
+        if (static_cast<int>(in_window.size()) < o.neighbours) continue;
+        const double f = SignalScale(tests, in_window);
+        const double variance = static_cast<double>(std_dev->values[cell]) * std_dev->values[cell];
+        const double noise = std::min(noise_variance[cell], variance);
+        std_dev->values[cell] = static_cast<float>(std::sqrt(f * (variance - noise) + noise));
+        scale[cell] = static_cast<float>(f);
+      }
+  });
+  std::vector<float> scaled;
+  for (const float f : scale)
+    if (std::isfinite(f)) scaled.push_back(f);
+  if (scaled.empty()) return 1.0;
+  std::nth_element(scaled.begin(), scaled.begin() + scaled.size() / 2, scaled.end());
+  return scaled[scaled.size() / 2];
 }
 
 std::vector<CrossValidationScore> BlockCrossValidationScores(
@@ -450,7 +598,10 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
     }
   }
   result.dem = grid;
-  KrigeOnto(thinned, result.model, o, &result.dem, &result.std);
+  std::vector<double> noise_variance;
+  KrigeCells(thinned, result.model, o, &result.dem, &result.std, &noise_variance);
+  result.median_signal_scale =
+      RescaleStdByHeldOutPoints(thinned, result.model, o, result.dem, noise_variance, &result.std);
   return result;
 }
 

@@ -70,7 +70,8 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   report["variogram"] = {{"model", VariogramKindName(model.kind)},
                          {"nugget_m2", model.nugget},
                          {"partial_sill_m2", model.partial_sill},
-                         {"range_m", model.range_m}};
+                         {"range_m", model.range_m},
+                         {"median_held_out_signal_scale", w.kriged.median_signal_scale}};
   for (const KrigingResult::KindTried& k : w.kriged.cross_validation) {
     report["variogram"]["cross_validation_rms_m"][VariogramKindName(k.model.kind)] =
         k.cross_validation_rms_m;
