@@ -133,6 +133,20 @@ TEST(FreeSpace, ALoweredCellsStdSpansItsLowering) {
   EXPECT_FLOAT_EQ(std_dev.at(2, 2), 0.03f);
 }
 
+// A riser's face seen from below: of two points in one quarter-metre square, the farther and
+// higher one's line rises less (1.51 m over 20.2 m against 1.5 m over 20 m) and passes under
+// the other's all the way. It is the one kept, not the line to the lower point.
+TEST(FreeSpace, OfOneCamerasLinesToASmallSquareTheOneThatRisesLeastIsKept) {
+  const Raster grid = Level(0.0);
+  const SightLine nearer{{0.0, 0.0, kEye}, {20.0, 0.1, 3.0}, 0.0};
+  const SightLine farther{{0.0, 0.0, kEye}, {20.2, 0.1, 3.01}, 0.0};
+  const SightLineCeilings both = FindSightLineCeilings({nearer, farther}, grid, {});
+  const SightLineCeilings under = FindSightLineCeilings({farther}, grid, {});
+  const SightLineCeilings over = FindSightLineCeilings({nearer}, grid, {});
+  EXPECT_EQ(both.per_cell.values, under.per_cell.values);
+  EXPECT_LT(under.per_cell.at(9, 15), over.per_cell.at(9, 15));
+}
+
 TEST(FreeSpace, NoDataCellsStayNoData) {
   Raster dem = Level(1.0);
   dem.at(10, 10) = Raster::kNoData;
