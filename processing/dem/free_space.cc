@@ -74,18 +74,18 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
   }
 }
 
-// One line per camera and ceiling_cell_m square of the points' positions, the one that rises
-// least (its height over the camera per metre run): the lines of one camera to the points of
-// one small square run side by side, and that one is below the others all along (to within
-// the square's width). Not the line to the lowest point: above the eye a farther point a
-// little higher can lie under a lower, nearer one's line (a riser seen from below). The near
-// ground is matched densely, so this leaves a fraction of the lines.
 // A line's height over its camera per metre of run.
 double Rise(const SightLine& l) {
   const double run = (l.point - l.camera).head<2>().norm();
   return run > 0.0 ? (l.point.z() - l.camera.z()) / run : kNone;
 }
 
+// One line per camera and ceiling_cell_m square of the points' positions, the one that rises
+// least (its height over the camera per metre run): the lines of one camera to the points of
+// one small square run side by side, and that one is below the others all along (to within
+// the square's width). Not the line to the lowest point: above the eye a farther point a
+// little higher can lie under a lower, nearer one's line (a riser seen from below). The near
+// ground is matched densely, so this leaves a fraction of the lines.
 std::vector<SightLine> LowestLinePerSquare(const std::vector<SightLine>& lines, double cell_m) {
   struct Keyed {
     std::array<double, 3> camera;

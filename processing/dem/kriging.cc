@@ -359,17 +359,12 @@ struct HeldOutTest {
   double error2 = 0.0, signal_variance = 0.0, noise_variance = 0.0;
 };
 
-// One test per cell with data: the matched point in the cell nearest its centre, held out.
-std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_points,
-                                                const VariogramModel& model,
-                                                const KrigingOptions& o, const Raster& dem) {
-  const std::vector<Eigen::Vector3d> points = kriging_points.All();
-  const std::vector<double> nugget = NuggetsOf(kriging_points, model);
-  const std::vector<PointMatch> matches = MatchesOfAll(kriging_points);
+// Per cell with data, the matched point in it nearest its centre (-1: none).
+std::vector<int> NearestPointPerCell(const KrigingPoints& kriging_points, const Raster& dem) {
   std::vector<int> nearest(dem.values.size(), -1);
   std::vector<double> distance(dem.values.size(), std::numeric_limits<double>::infinity());
   for (size_t i = 0; i < kriging_points.positions.size(); ++i) {
-    const Eigen::Vector3d& p = points[i];
+    const Eigen::Vector3d& p = kriging_points.positions[i];
     int row = 0, col = 0;
     if (!dem.CellOf(p.x(), p.y(), &row, &col)) continue;
     const size_t cell = static_cast<size_t>(row) * dem.cols + col;
@@ -377,6 +372,17 @@ std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_poi
     if (!Raster::IsNoData(dem.values[cell]) && d < distance[cell])
       distance[cell] = d, nearest[cell] = static_cast<int>(i);
   }
+  return nearest;
+}
+
+// One test per cell with data: the point NearestPointPerCell chose there, held out.
+std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_points,
+                                                const VariogramModel& model,
+                                                const KrigingOptions& o,
+                                                const std::vector<int>& nearest) {
+  const std::vector<Eigen::Vector3d> points = kriging_points.All();
+  const std::vector<double> nugget = NuggetsOf(kriging_points, model);
+  const std::vector<PointMatch> matches = MatchesOfAll(kriging_points);
   std::vector<int> held;
   for (const int i : nearest)
     if (i >= 0) held.push_back(i);
@@ -440,23 +446,20 @@ double RescaleStdByHeldOutPoints(const KrigingPoints& points, const VariogramMod
                                  const KrigingOptions& o, const Raster& dem,
                                  const std::vector<double>& noise_variance, Raster* std_dev) {
   if (!(o.held_out_window_m > 0.0)) return 1.0;
-  const std::vector<HeldOutTest> tests = HoldOutOnePointPerCell(points, model, o, dem);
+  // The cells the tests speak for: those holding a matched point, as each test's cell does.
+  const std::vector<int> nearest = NearestPointPerCell(points, dem);
+  const std::vector<HeldOutTest> tests = HoldOutOnePointPerCell(points, model, o, nearest);
   if (tests.empty()) return 1.0;
   std::vector<Eigen::Vector3d> at;
   for (const HeldOutTest& t : tests) at.emplace_back(t.x, t.y, 0.0);
   const GridIndex grid(at, o.held_out_window_m);
-  // The cells the tests speak for: those holding a matched point, as each test's cell does.
-  std::vector<char> holds_point(dem.values.size(), 0);
-  for (const Eigen::Vector3d& p : points.positions)
-    if (int row = 0, col = 0; dem.CellOf(p.x(), p.y(), &row, &col))
-      holds_point[static_cast<size_t>(row) * dem.cols + col] = 1;
   std::vector<float> scale(dem.values.size(), std::numeric_limits<float>::quiet_NaN());
   cv::parallel_for_(cv::Range(0, dem.rows), [&](const cv::Range& rows) {
     std::vector<int> in_window;
     for (int row = rows.start; row < rows.end; ++row)
       for (int col = 0; col < dem.cols; ++col) {
         const size_t cell = static_cast<size_t>(row) * dem.cols + col;
-        if (!holds_point[cell] || Raster::IsNoData(std_dev->values[cell])) continue;
+        if (nearest[cell] < 0 || Raster::IsNoData(std_dev->values[cell])) continue;
         const double x = dem.CellCentreX(col), y = dem.CellCentreY(row);
         in_window.clear();
         for (int r = grid.RowOf(y) - 1; r <= grid.RowOf(y) + 1; ++r)

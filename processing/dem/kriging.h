@@ -151,7 +151,7 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
 
 // One variogram serves the whole square, and its sill is set by the square's roughest ground:
 // a road's batters, a riser, a gully. Over the smooth fields beside them kriging's std was two
-// or three times the error it made (the simulated embankment: 1.0 mm against 7.2 mm). The
+// to seven times the error it made (the simulated embankment: 1.0 mm against 7.2 mm). The
 // points say how rough the ground is near each place: in each cell with data, the matched
 // point nearest its centre is held out and predicted from the rest. Within held_out_window_m
 // of a cell, the factor f on the surface's part of the variance is the one that makes those
