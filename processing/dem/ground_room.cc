@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
@@ -93,36 +94,57 @@ std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
   return count;
 }
 
-// How much the slope of the seen cells within window_m of each cell changes: the range of
-// their gradients, east and north, combined. Kriging's linear drift carries a cell's slope
-// on into ground nobody saw; the hidden ground can turn by as much as the seen ground turns.
-cv::Mat SeenSlopeChange(const Raster& dem, const std::vector<int>& count, double window_m) {
-  constexpr float kNone = std::numeric_limits<float>::infinity();
-  cv::Mat east_hi(dem.rows, dem.cols, CV_32F, cv::Scalar(-kNone)),
-      east_lo(east_hi.size(), CV_32F, cv::Scalar(kNone));
-  cv::Mat north_hi = east_hi.clone(), north_lo = east_lo.clone();
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c) {
-      if (count[static_cast<size_t>(r) * dem.cols + c] == 0 || Raster::IsNoData(dem.at(r, c)))
-        continue;
-      const Eigen::Vector2d g = GradientAt(dem, r, c);
-      east_hi.at<float>(r, c) = east_lo.at<float>(r, c) = static_cast<float>(g.x());
-      north_hi.at<float>(r, c) = north_lo.at<float>(r, c) = static_cast<float>(g.y());
-    }
-  const int half = static_cast<int>(std::lround(window_m / dem.cell_m));
-  const cv::Mat window =
-      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1));
-  for (cv::Mat* m : {&east_hi, &north_hi}) cv::dilate(*m, *m, window);
-  for (cv::Mat* m : {&east_lo, &north_lo}) cv::erode(*m, *m, window);
-  cv::Mat change(dem.rows, dem.cols, CV_32F, cv::Scalar(0));
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c) {
-      const float de = east_hi.at<float>(r, c) - east_lo.at<float>(r, c);
-      const float dn = north_hi.at<float>(r, c) - north_lo.at<float>(r, c);
-      if (std::isfinite(de) && std::isfinite(dn)) change.at<float>(r, c) = std::hypot(de, dn);
-    }
-  return change;
-}
+// How much the slope of the seen cells within a window changes: the range of their gradients,
+// east and north, combined. Kriging's linear drift carries a cell's slope on into ground nobody
+// saw; the hidden ground can turn by as much as the seen ground turns. A cell d metres from
+// the nearest point is carried on over d, so the window reaches window_m past that: over a
+// longer reach the ground turns more, and the seen ground within window_m of a cell far out
+// is none (its room would be nothing). One map per window size, made as asked for.
+class SeenTurns {
+ public:
+  SeenTurns(const Raster& dem, const std::vector<int>& count, double window_m)
+      : cell_m_(dem.cell_m), window_m_(window_m) {
+    constexpr float kNone = std::numeric_limits<float>::infinity();
+    east_hi_ = cv::Mat(dem.rows, dem.cols, CV_32F, cv::Scalar(-kNone));
+    east_lo_ = cv::Mat(east_hi_.size(), CV_32F, cv::Scalar(kNone));
+    north_hi_ = east_hi_.clone(), north_lo_ = east_lo_.clone();
+    for (int r = 0; r < dem.rows; ++r)
+      for (int c = 0; c < dem.cols; ++c) {
+        if (count[static_cast<size_t>(r) * dem.cols + c] == 0 || Raster::IsNoData(dem.at(r, c)))
+          continue;
+        const Eigen::Vector2d g = GradientAt(dem, r, c);
+        east_hi_.at<float>(r, c) = east_lo_.at<float>(r, c) = static_cast<float>(g.x());
+        north_hi_.at<float>(r, c) = north_lo_.at<float>(r, c) = static_cast<float>(g.y());
+      }
+  }
+  // The turn around cell (r, c) for ground carried on over distance_m.
+  double At(int r, int c, double distance_m) {
+    const int half = static_cast<int>(std::lround(std::max(window_m_, distance_m) / cell_m_));
+    auto [it, made] = maps_.try_emplace(half);
+    if (made) it->second = Within(half);
+    return it->second.at<float>(r, c);
+  }
+
+ private:
+  cv::Mat Within(int half) const {
+    const cv::Mat window =
+        cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1));
+    cv::Mat east_hi, east_lo, north_hi, north_lo;
+    cv::dilate(east_hi_, east_hi, window), cv::dilate(north_hi_, north_hi, window);
+    cv::erode(east_lo_, east_lo, window), cv::erode(north_lo_, north_lo, window);
+    cv::Mat change(east_hi.size(), CV_32F, cv::Scalar(0));
+    for (int r = 0; r < change.rows; ++r)
+      for (int c = 0; c < change.cols; ++c) {
+        const float de = east_hi.at<float>(r, c) - east_lo.at<float>(r, c);
+        const float dn = north_hi.at<float>(r, c) - north_lo.at<float>(r, c);
+        if (std::isfinite(de) && std::isfinite(dn)) change.at<float>(r, c) = std::hypot(de, dn);
+      }
+    return change;
+  }
+  double cell_m_, window_m_;
+  cv::Mat east_hi_, east_lo_, north_hi_, north_lo_;  // the seen cells' gradients
+  std::map<int, cv::Mat> maps_;                      // by the window's half size in cells
+};
 
 // The std of ground nobody saw under the lines of sight. Behind a brow, the lowest line over
 // it grazes the brow and lands on the first ground seen past the hidden stretch (a terrace's
@@ -158,7 +180,8 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c)
       if (!no_data.at<uint8_t>(r, c)) cell_of_label[label.at<int>(r, c)] = {c, r};
-  const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
+  SeenTurns turns(dem, count, o.slope_window_m);
+  const FinePoints fine_points(ground, dem, o.slope_window_m);
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
@@ -177,10 +200,13 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
         z = std::min(z, double(sight->per_cell.at(r, c)));
       else if (horizon && !Raster::IsNoData(horizon->at(r, c)))
         z = std::min(z, double(horizon->at(r, c)));
+      // The std of the nearest cell has its own room; this adds the turn over the step from it,
+      // where the ground has turned as the seen ground does over the whole reach from the points.
       const float s0 = std_dev.at(from.y, from.x);
+      const double step_m = distance.at<float>(r, c) * dem.cell_m;
+      const double reach_m = step_m + fine_points.DistanceToCentre(from.y, from.x);
       const double room =
-          std::max(0.5 * turn.at<float>(from.y, from.x) * distance.at<float>(r, c) * dem.cell_m,
-                   ShadowStd(z, sight, r, c));
+          std::max(0.5 * turns.At(from.y, from.x, reach_m) * step_m, ShadowStd(z, sight, r, c));
       out.height.at(r, c) = static_cast<float>(z);
       out.std.at(r, c) = static_cast<float>(std::hypot(Raster::IsNoData(s0) ? 0.0 : s0, room));
     }
@@ -215,7 +241,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
     departure2[cell] += (p.z() - surface) * (p.z() - surface);
     if (!ground.height_variances_m2.empty()) noise2[cell] += ground.height_variances_m2[i];
   }
-  const cv::Mat turn = SeenSlopeChange(dem, count, o.slope_window_m);
+  SeenTurns turns(dem, count, o.slope_window_m);
   const FinePoints fine_points(ground, dem, o.slope_window_m);
   std::vector<double> widening, departures;
   for (int r = 0; r < dem.rows; ++r)
@@ -228,9 +254,11 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       // cell, its lower tread at the centre). Ground with points all around the centre shows
       // its own turns: in the points' departure from the DEM here, and in kriging's sigma.
       double room = 0.0;
-      if (count[cell] == 0 || !fine_points.CentreSurrounded(r, c, dem.cell_m))
-        room = std::max(0.5 * turn.at<float>(r, c) * fine_points.DistanceToCentre(r, c),
-                        ShadowStd(dem.at(r, c), sight, r, c));
+      if (count[cell] == 0 || !fine_points.CentreSurrounded(r, c, dem.cell_m)) {
+        const double reach_m = fine_points.DistanceToCentre(r, c);
+        room =
+            std::max(0.5 * turns.At(r, c, reach_m) * reach_m, ShadowStd(dem.at(r, c), sight, r, c));
+      }
       double departure = 0.0;
       if (count[cell] > 0) {
         ++result.seen_cells;

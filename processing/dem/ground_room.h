@@ -9,13 +9,14 @@
 //  - at a cell's centre d metres from the nearest ground point (or the mark): kriging's linear
 //    drift carries the slope of the ground around on to it; ground hidden behind a brow or a
 //    dike may turn away from that slope as much as the seen ground turns near it, by up to
-//    t d with t the range of the seen cells' gradients within slope_window_m. That room is
-//    taken as two standard deviations. It is what matters in cells nobody saw (no ground
-//    point in them), and at the centre of a cell seen at one corner. A seen cell whose centre
-//    has points all around it (no gap over 180 degrees among those within a cell of its
-//    nearest) shows its own turns, in the departure above and in kriging's sigma: no room. The
-//    lines of sight above (free_space.h) have already taken the DEM down to where the ground can
-//    be.
+//    t d with t the range of the seen cells' gradients within slope_window_m of the cell, or
+//    within d where d is longer (farther out no seen cell is that near; the ground turns over
+//    the whole reach). That room is taken as two standard deviations. It is what matters in cells
+//    nobody saw (no ground point in them), and at the centre of a cell seen at one corner. A seen
+//    cell whose centre has points all around it (no gap over 180 degrees among those within a cell
+//    of its nearest) shows its own turns, in the departure above and in kriging's sigma: no room.
+//    The lines of sight above (free_space.h) have already taken the DEM down to where the ground
+//    can be.
 //  - in a cell nobody saw behind a brow, or whose centre lies beyond the points it holds (a
 //    terrace's lip in the cell, its lower tread at the centre), the room below: the lowest
 //    line of sight over it grazed the brow and landed on the first ground seen past (a
@@ -40,8 +41,8 @@ struct GroundRoomOptions {
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"widen the std by what the ground could do", "", 0, 1});
     v("slope_window_m", self.slope_window_m,
-      {"how much the seen slopes within this of a cell turn bounds its unseen ground", "m", 0,
-       100});
+      {"how much the seen slopes within this of a cell (at least) turn bounds its unseen ground",
+       "m", 0, 100});
   }
   bool Check(std::string* why) const;
 };

@@ -1,34 +1,38 @@
 // The room the ground has where kriging cannot know, against geometry with a known answer:
-// ground seen on a crease (falling at 20 % to x = 10 m, rising at 20 % after it) except in a
-// 6 m gap across it; the seen slopes turn by 0.4 there, so a cell d metres from the nearest
-// ground point gets 0.4 d / 2 added (in quadrature) to its std. A seen cell across which the
-// ground steps by 1 m gets the step's departure from the DEM's surface.
+// ground seen on a crease (falling at 20 % to the middle of the square, rising at 20 % after
+// it) except in a square gap across it; the seen slopes turn by 0.4 there, so a cell d metres
+// from the nearest ground point gets 0.4 d / 2 added (in quadrature) to its std. A seen cell
+// across which the ground steps by 1 m gets the step's departure from the DEM's surface.
 #include "processing/dem/ground_room.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 namespace ts {
 namespace {
 
-double Crease(double x) { return 0.2 * std::abs(x - 10.0); }
+double Crease(double x, double middle = 10.0) { return 0.2 * std::abs(x - middle); }
 
+// A square `size` metres wide, the gap x, y in [gap_from, size - gap_from).
 struct Site {
   KrigingPoints ground;
-  Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20);
-  Raster std = Raster::Make(0.0, 20.0, 1.0, 20, 20);
-  Site() {
+  Raster dem, std;
+  explicit Site(int size = 20, double gap_from = 7.0)
+      : dem(Raster::Make(0.0, size, 1.0, size, size)),
+        std(Raster::Make(0.0, size, 1.0, size, size)) {
+    const double middle = 0.5 * size, gap_to = size - gap_from;
     for (int r = 0; r < dem.rows; ++r)
       for (int c = 0; c < dem.cols; ++c) {
-        dem.at(r, c) = static_cast<float>(Crease(dem.CellCentreX(c)));
+        dem.at(r, c) = static_cast<float>(Crease(dem.CellCentreX(c), middle));
         std.at(r, c) = 0.01f;
       }
-    // Points every 0.25 m, none in the gap x, y in [7, 13).
-    for (double y = 0.125; y < 20.0; y += 0.25)
-      for (double x = 0.125; x < 20.0; x += 0.25) {
-        if (x >= 7.0 && x < 13.0 && y >= 7.0 && y < 13.0) continue;
-        ground.positions.emplace_back(x, y, Crease(x));
+    // Points every 0.25 m, none in the gap.
+    for (double y = 0.125; y < size; y += 0.25)
+      for (double x = 0.125; x < size; x += 0.25) {
+        if (x >= gap_from && x < gap_to && y >= gap_from && y < gap_to) continue;
+        ground.positions.emplace_back(x, y, Crease(x, middle));
         ground.height_variances_m2.push_back(0.0);
       }
   }
@@ -44,6 +48,23 @@ TEST(GroundRoom, UnseenCellsGetTheSeenSlopesTurnOverTheirDistance) {
   EXPECT_NEAR(site.std.at(10, 9), std::hypot(0.01, 0.5 * 0.4 * d), 0.06);
   // A seen cell keeps kriging's std: the ground there is the DEM's surface.
   EXPECT_NEAR(site.std.at(2, 2), 0.01, 1e-4);
+}
+
+// Far into a gap, no seen ground lies within slope_window_m (5 m) of a cell: the turn is that of
+// the seen ground within the distance the DEM is carried on over, not none.
+TEST(GroundRoom, FarIntoAGapTheTurnIsTheSeenGroundsOverTheDistanceCarriedOn) {
+  Site site(40, 8.0);  // the gap 24 m wide, the crease at x = 20 m
+  WidenStdByGroundRoom(site.ground, site.dem, nullptr, {}, &site.std);
+  // The cell at x = 19.5 m, y = 20.5 m (row 19, col 19): 11.625 m from the nearest point.
+  const double d = 19.5 - 7.875;
+  EXPECT_NEAR(site.std.at(19, 19), std::hypot(0.01, 0.5 * 0.4 * d), 0.1);
+  // Every cell of the square for the terrain correction: a cell without a value in the gap's
+  // middle is carried on a metre from its nearest cell with one (to the east: its other
+  // neighbours have none either), whose std it widens by the turn over that metre.
+  for (const auto& [r, c] : {std::pair{19, 19}, {18, 19}, {20, 19}, {19, 18}})
+    site.dem.at(r, c) = site.std.at(r, c) = Raster::kNoData;
+  const GroundEstimate e = EstimateEveryCell(site.ground, site.dem, site.std, nullptr, nullptr, {});
+  EXPECT_NEAR(e.std.at(19, 19), std::hypot(site.std.at(19, 20), 0.5 * 0.4 * 1.0), 0.002);
 }
 
 TEST(GroundRoom, ASeenCellAcrossAStepGetsTheStepsDeparture) {
