@@ -243,6 +243,47 @@ double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right
   return static_cast<double>(most) / looked;
 }
 
+// The matches whose least-squares residual is at most max_residual_ratio times the median of
+// their neighbours' at the same resolution (half: matched at half resolution, where the noise
+// per pixel is half).
+std::vector<StereoMatch> KeepFittingMatches(std::vector<StereoMatch> matches,
+                                            const std::vector<double>& residuals,
+                                            const std::vector<uint8_t>& half, cv::Size image,
+                                            const PairMatchOptions& o) {
+  if (o.max_residual_ratio <= 0.0 || matches.empty()) return matches;
+  const int square = o.residual_square_px;
+  const int cols = image.width / square + 1, rows = image.height / square + 1;
+  // Squares by resolution, row and column.
+  auto bin = [&](int h, int r, int c) { return (static_cast<size_t>(h) * rows + r) * cols + c; };
+  auto bin_of = [&](size_t i) {
+    const int c = std::clamp(static_cast<int>(matches[i].left_px.x()) / square, 0, cols - 1);
+    const int r = std::clamp(static_cast<int>(matches[i].left_px.y()) / square, 0, rows - 1);
+    return bin(half[i], r, c);
+  };
+  std::vector<std::vector<double>> in_square(bin(2, 0, 0));
+  for (size_t i = 0; i < matches.size(); ++i) in_square[bin_of(i)].push_back(residuals[i]);
+  // The median over the 3 x 3 squares round each square that holds a match.
+  std::vector<double> median(in_square.size(), 0.0), around;
+  for (int h = 0; h < 2; ++h)
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        if (in_square[bin(h, r, c)].empty()) continue;
+        around.clear();
+        for (int rr = std::max(0, r - 1); rr <= std::min(rows - 1, r + 1); ++rr)
+          for (int cc = std::max(0, c - 1); cc <= std::min(cols - 1, c + 1); ++cc) {
+            const std::vector<double>& there = in_square[bin(h, rr, cc)];
+            around.insert(around.end(), there.begin(), there.end());
+          }
+        std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
+        median[bin(h, r, c)] = around[around.size() / 2];
+      }
+  size_t kept = 0;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (residuals[i] <= o.max_residual_ratio * median[bin_of(i)]) matches[kept++] = matches[i];
+  matches.resize(kept);
+  return matches;
+}
+
 }  // namespace
 
 std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Mat& left_rect,
@@ -292,7 +333,8 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
   int last_d = 0;
   Eigen::Matrix2d last_shape;
   std::unordered_set<int64_t> half_taken;  // near points snapped to one even pixel: once
-  std::vector<double> off_surface;
+  std::vector<double> off_surface, residuals;
+  std::vector<uint8_t> matched_at_half;
   for (cv::Point p : points) {
     // The pyramid's disparity: for the spacing and for near or far.
     const int approx = MapDisparity(left_map, p);
@@ -335,7 +377,11 @@ std::vector<StereoMatch> MatchRectifiedPair(const Rectification& r, const cv::Ma
     matches.push_back({Eigen::Vector2d(p.x, p.y), lsm.position_px, disparity,
                        o.sigma_scale * lsm.sigma_x_px, lsm.correlation,
                        Eigen::Vector2d(half_window.width, half_window.height)});
+    residuals.push_back(lsm.sigma0);
+    matched_at_half.push_back(half);
   }
+  matches = KeepFittingMatches(std::move(matches), residuals, matched_at_half, left_rect.size(), o);
+  s.fitting = static_cast<int>(matches.size());
   s.matching_s = SecondsSince(&clock);
   if (summary) *summary = s;
   return matches;

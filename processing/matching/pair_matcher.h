@@ -95,6 +95,15 @@ struct PairMatchOptions {
   // off its plane by more than max_consistency_px and the map's own pixel) is rejected: at an
   // occlusion edge least squares blends the two surfaces. 1: never.
   double max_other_surface_share = 0.1;
+  // A match whose least-squares residual (the fit's sigma0, in grey levels) is more than this
+  // many times the median residual of the matches around it (in the 3 x 3 squares of
+  // residual_square_px round its square, at its resolution) is rejected. Image noise and the
+  // texture's own misfit are alike in neighbouring windows; a window that holds what one plane
+  // cannot fit (ground behind a lip blended with the lip, a small step in depth the pyramid's
+  // map cannot resolve) leaves grey residuals several times theirs, and its disparity lies
+  // between the surfaces. 0: never.
+  double max_residual_ratio = 3.0;
+  int residual_square_px = 32;
   // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
   // resampling correlate neighbouring pixels, so the reported sigma is this times it
   // (calibrated against the simulator's true ranges in bench_matching).
@@ -124,6 +133,10 @@ struct PairMatchOptions {
       {"the way back may differ this much", "px", 0, 100});
     v("max_other_surface_share", self.max_other_surface_share,
       {"reject a window of which more than this share sees another surface", "", 0, 1});
+    v("max_residual_ratio", self.max_residual_ratio,
+      {"reject a match whose residual is this many times its neighbours' (0: never)", "", 0, 1000});
+    v("residual_square_px", self.residual_square_px,
+      {"the neighbours: the matches in the 3 x 3 squares this wide round a match", "px", 1, 10000});
     v("sigma_scale", self.sigma_scale,
       {"the LSM sigma times this (correlated pixels)", "", 0.01, 100});
     v.Group("enhance", self.enhance);
@@ -158,6 +171,7 @@ struct PairMatchSummary {
   int lsm_accepted = 0;
   int consistent = 0;
   int one_surface = 0;  // consistent, and the window sees one surface
+  int fitting = 0;      // of those, the residual like its neighbours' (the matches returned)
   // wall time of the steps (s); the disparity maps and the interest points are found together
   double enhance_s = 0.0, maps_and_points_s = 0.0, matching_s = 0.0;
 };

@@ -191,12 +191,13 @@ bool StationProcessor::MatchPairs(StepRunner* run, StationWork* w, StepSummary* 
     w->pairs.push_back({m.index, m.pan_deg, m.tilt_deg, {}, {}});
     per_pair.push_back({{"pair", p.index},
                         {"interest_points", m.summary.points},
-                        {"matched", m.summary.one_surface},
+                        {"matched", m.summary.fitting},
                         {"across_occlusion_edges", m.summary.consistent - m.summary.one_surface},
+                        {"misfitting", m.summary.one_surface - m.summary.fitting},
                         {"matching_s", m.summary.matching_s}});
-    if (m.summary.one_surface < 1000)
+    if (m.summary.fitting < 1000)
       s->warnings.push_back("pair " + std::to_string(p.index) + " gave only " +
-                            std::to_string(m.summary.one_surface) + " matches");
+                            std::to_string(m.summary.fitting) + " matches");
   }
   w->panorama = panorama_->Image();
   s->counts = {{"pairs", records.size()},

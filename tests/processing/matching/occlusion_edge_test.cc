@@ -83,12 +83,11 @@ struct EdgeMatches {
   double worst_off_px = 0.0;
 };
 
-EdgeMatches MatchAcrossTheEdge(const EdgeScene& s) {
+EdgeMatches MatchAcrossTheEdge(const EdgeScene& s, PairMatchOptions o = {}) {
   cv::Mat left, right;
   RenderPair(s, &left, &right);
   Rectification r;
   r.focal_px = 1500.0, r.baseline_m = 0.3, r.width_px = s.width, r.height_px = s.height;
-  PairMatchOptions o;
   o.min_disparity_px = 0;
   o.max_disparity_px = 96;
   EdgeMatches out;
@@ -138,6 +137,26 @@ TEST(OcclusionEdge, NoMatchIsMadeWhereOnlyTheLeftCameraSeesOrBetweenTheSurfaces)
         // nothing.
         EXPECT_GT(m.on_one_surface, 0.5 * PointsWithOneSurfaceInView(s, 10));
       }
+}
+
+// A brow whose step in depth is below what the pyramid's map resolves (its disparities come in
+// steps of two pixels, compared with a slack of four): a lip at 17.6 m before ground at 20 m,
+// 25.5 against 22.5 px. Windows across it pass the other-surface test, and least squares
+// blends the two; their grey residuals, several times their neighbours', give them away.
+TEST(OcclusionEdge, ABrowTooSmallForThePyramidIsFoundByTheFitsResiduals) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    EdgeScene s;
+    s.brow = true, s.edge_px = 120.0, s.seed = seed;
+    s.near_disparity = 25.5, s.far_disparity = 22.5;
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    PairMatchOptions without;
+    without.max_residual_ratio = 0.0;
+    const EdgeMatches blended = MatchAcrossTheEdge(s, without);
+    const EdgeMatches m = MatchAcrossTheEdge(s);
+    EXPECT_GT(blended.off_both_surfaces, 0);  // the test has something to find
+    EXPECT_EQ(m.off_both_surfaces, 0) << "worst " << m.worst_off_px << " px off";
+    EXPECT_GT(m.on_one_surface, 0.5 * PointsWithOneSurfaceInView(s, 10));
+  }
 }
 
 }  // namespace
