@@ -6,7 +6,9 @@
 //   resolution NCC around the approximation -> the right image's own search must lead back
 //   (two-way consistency) -> least-squares matching along the rows (on the Gaussian-only
 //   images: see pair_matcher.cc; near points at half resolution, far ones with wide, low
-//   windows) for the sub-pixel disparity and its sigma, which must agree with the way back too.
+//   windows) for the sub-pixel disparity and its sigma, which must agree with the way back too
+//   -> the window must see one surface (the pyramid's disparities over it on its plane) and
+//   fit it as well as its neighbours fit theirs (its grey residual against theirs).
 // Coordinates are rectified pixels (rectification.h); depth = f B / disparity.
 #include <Eigen/Core>
 #include <string>
