@@ -97,9 +97,9 @@ std::vector<int> PointsPerCell(const KrigingPoints& ground, const Raster& dem) {
 // How much the slope of the seen cells within a window changes: the range of their gradients,
 // east and north, combined. Kriging's linear drift carries a cell's slope on into ground nobody
 // saw; the hidden ground can turn by as much as the seen ground turns. A cell d metres from
-// the nearest point is carried on over d, so the window reaches window_m past that: over a
-// longer reach the ground turns more, and the seen ground within window_m of a cell far out
-// is none (its room would be nothing). One map per window size, made as asked for.
+// the nearest point is carried on over d, so the window is d wide where d exceeds window_m:
+// over a longer reach the ground turns more, and the seen ground within window_m of a cell far
+// out is none (its room would be nothing). One map per window size, made as asked for.
 class SeenTurns {
  public:
   SeenTurns(const Raster& dem, const std::vector<int>& count, double window_m)
