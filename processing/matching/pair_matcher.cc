@@ -243,9 +243,15 @@ double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right
   return static_cast<double>(most) / looked;
 }
 
+// The median of non-empty *values (reordered).
+double MedianOf(std::vector<double>* values) {
+  std::nth_element(values->begin(), values->begin() + values->size() / 2, values->end());
+  return (*values)[values->size() / 2];
+}
+
 // The matches whose least-squares residual is at most max_residual_ratio times the median of
-// their neighbours' at the same resolution (half: matched at half resolution, where the noise
-// per pixel is half).
+// their neighbours' and of the pair's, the smaller, at the same resolution (half: matched at
+// half resolution, where the noise per pixel is half).
 std::vector<StereoMatch> KeepFittingMatches(std::vector<StereoMatch> matches,
                                             const std::vector<double>& residuals,
                                             const std::vector<uint8_t>& half, cv::Size image,
@@ -274,12 +280,21 @@ std::vector<StereoMatch> KeepFittingMatches(std::vector<StereoMatch> matches,
             const std::vector<double>& there = in_square[bin(h, rr, cc)];
             around.insert(around.end(), there.begin(), there.end());
           }
-        std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
-        median[bin(h, r, c)] = around[around.size() / 2];
+        median[bin(h, r, c)] = MedianOf(&around);
       }
+  // The pair's median at each resolution: where a whole neighbourhood is blended (a slope
+  // striped with lips, each window across one), its median is the blends' own.
+  double pair_median[2] = {0.0, 0.0};
+  for (int h = 0; h < 2; ++h) {
+    around.clear();
+    for (size_t i = 0; i < matches.size(); ++i)
+      if (half[i] == h) around.push_back(residuals[i]);
+    if (!around.empty()) pair_median[h] = MedianOf(&around);
+  }
   size_t kept = 0;
   for (size_t i = 0; i < matches.size(); ++i)
-    if (residuals[i] <= o.max_residual_ratio * median[bin_of(i)]) matches[kept++] = matches[i];
+    if (residuals[i] <= o.max_residual_ratio * std::min(median[bin_of(i)], pair_median[half[i]]))
+      matches[kept++] = matches[i];
   matches.resize(kept);
   return matches;
 }

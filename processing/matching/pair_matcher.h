@@ -8,7 +8,7 @@
 //   images: see pair_matcher.cc; near points at half resolution, far ones with wide, low
 //   windows) for the sub-pixel disparity and its sigma, which must agree with the way back too
 //   -> the window must see one surface (the pyramid's disparities over it on its plane) and
-//   fit it as well as its neighbours fit theirs (its grey residual against theirs).
+//   fit it as well as its neighbours and the pair fit theirs (its grey residual against theirs).
 // Coordinates are rectified pixels (rectification.h); depth = f B / disparity.
 #include <Eigen/Core>
 #include <string>
@@ -99,11 +99,13 @@ struct PairMatchOptions {
   double max_other_surface_share = 0.1;
   // A match whose least-squares residual (the fit's sigma0, in grey levels) is more than this
   // many times the median residual of the matches around it (in the 3 x 3 squares of
-  // residual_square_px round its square, at its resolution) is rejected. Image noise and the
-  // texture's own misfit are alike in neighbouring windows; a window that holds what one plane
-  // cannot fit (ground behind a lip blended with the lip, a small step in depth the pyramid's
-  // map cannot resolve) leaves grey residuals several times theirs, and its disparity lies
-  // between the surfaces. 0: never.
+  // residual_square_px round its square, at its resolution), or of all the pair's at its
+  // resolution, whichever is smaller, is rejected. Image noise and the texture's own misfit are
+  // alike in neighbouring windows; a window that holds what one plane cannot fit (ground
+  // behind a lip blended with the lip, a small step in depth the pyramid's map cannot resolve)
+  // leaves grey residuals several times theirs, and its disparity lies between the surfaces.
+  // Where every window around is such a blend (a slope striped with lips), the pair's median
+  // is the fit of one surface. 0: never.
   double max_residual_ratio = 3.0;
   int residual_square_px = 32;
   // The LSM sigma, from the fit's residuals, assumes independent pixels; smoothing and
