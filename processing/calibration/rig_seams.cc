@@ -3,18 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "processing/common/median.h"
 #include "processing/geometry/camera_model.h"
 
 namespace ts {
-namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibration,
                          const RigAdjustment& adjustment, int station) {

@@ -8,6 +8,7 @@
 
 #include "processing/change/subsidence_regions.h"
 #include "processing/common/family_wise.h"
+#include "processing/common/median.h"
 
 namespace ts {
 namespace {
@@ -44,13 +45,6 @@ Status CheckStdGrid(const DemEpoch& e) {
   if (e.std_dev && !SameGrid(e.dem, *e.std_dev))
     return Error{e.name + ": its standard deviation grid is not on the DEM's grid"};
   return {};
-}
-
-double Median(std::vector<float> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 
 }  // namespace

@@ -9,18 +9,13 @@
 #include <vector>
 
 #include "processing/common/angles.h"
+#include "processing/common/median.h"
 
 namespace ts {
 
 bool GroundRoomOptions::Check(std::string* why) const { return CheckDeclaredOptions(*this, why); }
 
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // The DEM's gradient (rise over run, east and north) at a cell with data, from its neighbours
 // with data.

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "processing/common/median.h"
+
 namespace ts {
 
 PairMatchOptions PairMatchOptions::ForStation() {
@@ -243,12 +245,6 @@ double OtherSurfaceShare(const DisparityMap& left_map, const DisparityMap& right
   return static_cast<double>(most) / looked;
 }
 
-// The median of non-empty *values (reordered).
-double MedianOf(std::vector<double>* values) {
-  std::nth_element(values->begin(), values->begin() + values->size() / 2, values->end());
-  return (*values)[values->size() / 2];
-}
-
 // The matches whose least-squares residual is at most max_residual_ratio times the median of
 // their neighbours' and of the pair's, the smaller, at the same resolution (half: matched at
 // half resolution, where the noise per pixel is half).
@@ -280,7 +276,7 @@ std::vector<StereoMatch> KeepFittingMatches(std::vector<StereoMatch> matches,
             const std::vector<double>& there = in_square[bin(h, rr, cc)];
             around.insert(around.end(), there.begin(), there.end());
           }
-        median[bin(h, r, c)] = MedianOf(&around);
+        median[bin(h, r, c)] = MedianInPlace(&around);
       }
   // The pair's median at each resolution: where a whole neighbourhood is blended (a slope
   // striped with lips, each window across one), its median is the blends' own.
@@ -289,7 +285,7 @@ std::vector<StereoMatch> KeepFittingMatches(std::vector<StereoMatch> matches,
     around.clear();
     for (size_t i = 0; i < matches.size(); ++i)
       if (half[i] == h) around.push_back(residuals[i]);
-    if (!around.empty()) pair_median[h] = MedianOf(&around);
+    pair_median[h] = MedianInPlace(&around);
   }
   size_t kept = 0;
   for (size_t i = 0; i < matches.size(); ++i)

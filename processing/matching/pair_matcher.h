@@ -138,7 +138,8 @@ struct PairMatchOptions {
     v("max_other_surface_share", self.max_other_surface_share,
       {"reject a window of which more than this share sees another surface", "", 0, 1});
     v("max_residual_ratio", self.max_residual_ratio,
-      {"reject a match whose residual is this many times its neighbours' (0: never)", "", 0, 1000});
+      {"reject a match whose residual is this many times its neighbours' or its pair's (0: never)",
+       "", 0, 1000});
     v("residual_square_px", self.residual_square_px,
       {"the neighbours: the matches in the 3 x 3 squares this wide round a match", "px", 1, 10000});
     v("sigma_scale", self.sigma_scale,
@@ -175,7 +176,7 @@ struct PairMatchSummary {
   int lsm_accepted = 0;
   int consistent = 0;
   int one_surface = 0;  // consistent, and the window sees one surface
-  int fitting = 0;      // of those, the residual like its neighbours' (the matches returned)
+  int fitting = 0;      // of those, the residual like its neighbours' and the pair's (returned)
   // wall time of the steps (s); the disparity maps and the interest points are found together
   double enhance_s = 0.0, maps_and_points_s = 0.0, matching_s = 0.0;
 };

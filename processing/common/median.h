@@ -1,0 +1,23 @@
+#pragma once
+// The median of a sample (the upper of the two middle values for an even count; 0 for none).
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace ts {
+
+// Reorders *values.
+template <class T>
+double MedianInPlace(std::vector<T>* values) {
+  if (values->empty()) return 0.0;
+  const auto middle = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
+  std::nth_element(values->begin(), middle, values->end());
+  return static_cast<double>(*middle);
+}
+
+template <class T>
+double Median(std::vector<T> values) {
+  return MedianInPlace(&values);
+}
+
+}  // namespace ts
