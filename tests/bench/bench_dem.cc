@@ -22,7 +22,8 @@
 //    targets (the issue's targets are for the scenes as the simulator builds them by default).
 //    They show how far what was tuned on one station carries to other sites;
 //  - issue 22's landforms (embankment, terraces, foot, ridge, badlands), seed 1 or each of
-//    --seeds: DEM RMSE, the std's honesty, cells standing above a line of sight
+//    --seeds: DEM RMSE, the std's honesty (also on each kind of cell alone: seen, unseen
+//    under a line of sight, unseen beyond the lines), cells standing above a line of sight
 //    (sight_line_bound.h), the terrain correction's error against its sigma.
 #include <pcl/filters/extract_indices.h>
 #include <pcl/point_types.h>
@@ -347,6 +348,49 @@ void OtherSite(const char* scene, uint64_t seed, bench::Table* table) {
         {s + "share of object points removed", CountObjectPoints(*station, r).Removed(), "", ""});
 }
 
+// Where the std's dishonesty lies: the DEM evaluated on each kind of cell alone. Seen: a
+// ground point in it. Unseen under a line: a line of sight passed over it to farther ground
+// (products/dem_ceiling.tif), which bounds it from above and, by its landing, below. Unseen
+// beyond the lines: no line passed over it (the ground past the last seen in its azimuths,
+// bounded by nothing but the turn of the seen ground).
+struct CellKindHonesty {
+  const char* name;
+  DemEvaluation evaluation;
+  double share_of_squares = 0.0;  // of the sum over all cells of (error / std)^2
+};
+
+std::vector<CellKindHonesty> HonestyByCellKind(const TrueSite& site, const Raster& ceiling,
+                                               const Eigen::Vector2d& mark) {
+  const ProcessResult& r = site.result;
+  std::vector<uint8_t> seen(static_cast<size_t>(r.dem.rows) * r.dem.cols, 0);
+  for (size_t i = 0; i < r.cloud.size(); ++i) {
+    int row, col;
+    const Eigen::Vector3d& p = r.cloud[i].position_m;
+    if (r.point_class[i] == kGround && r.dem.CellOf(p.x(), p.y(), &row, &col))
+      seen[static_cast<size_t>(row) * r.dem.cols + col] = 1;
+  }
+  auto kind_of = [&](int row, int col) {
+    if (seen[static_cast<size_t>(row) * r.dem.cols + col]) return 0;
+    return Raster::IsNoData(ceiling.at(row, col)) ? 2 : 1;
+  };
+  const char* names[] = {"seen", "unseen under a line", "unseen beyond the lines"};
+  const DemEvaluation& all = site.evaluation;
+  const double all_squares = all.cells_compared * all.std_ratio_rms * all.std_ratio_rms;
+  std::vector<CellKindHonesty> kinds;
+  for (int kind = 0; kind < 3; ++kind) {
+    Raster only = r.dem;
+    for (int row = 0; row < only.rows; ++row)
+      for (int col = 0; col < only.cols; ++col)
+        if (kind_of(row, col) != kind) only.at(row, col) = Raster::kNoData;
+    CellKindHonesty k{names[kind], EvaluateDem(only, site.truth, mark, &r.dem_std)};
+    if (k.evaluation.cells_compared > 0 && all_squares > 0.0)
+      k.share_of_squares = k.evaluation.cells_compared * k.evaluation.std_ratio_rms *
+                           k.evaluation.std_ratio_rms / all_squares;
+    kinds.push_back(k);
+  }
+  return kinds;
+}
+
 // Issue 22's landforms, each seed: what the DEM and its std claim where the ground hides
 // itself from the tripod, against the truth (the true calibration, as the scenes above).
 void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table* table) {
@@ -379,6 +423,13 @@ void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table*
   table->Add({s + "DEM RMS of error / std", e.std_ratio_rms, "", "0.7-1.5",
               e.std_ratio_rms >= 0.7 && e.std_ratio_rms <= 1.5});
   table->Add({s + "DEM cells within 2 std", e.within_2std, "", ">= 0.90", e.within_2std >= 0.9});
+  const Raster ceiling = ReadGeoTiff(dir / "station/products/dem_ceiling.tif").value();
+  for (const CellKindHonesty& k : HonestyByCellKind(site, ceiling, mark3.head<2>())) {
+    if (k.evaluation.cells_compared == 0) continue;
+    table->Add({s + "  RMS of error / std, " + k.name, k.evaluation.std_ratio_rms, "", ""});
+    table->Add(
+        {s + "  " + k.name + ": share of the sum of (error / std)^2", k.share_of_squares, "", ""});
+  }
   table->Add({s + "cells above a line of sight by > 0.1 m", static_cast<double>(v.above), "", "0",
               v.above == 0});
   table->Add({s + "  the most above a line of sight", v.max_above_m, "m", ""});
