@@ -44,8 +44,11 @@ struct FineCeilings {
   std::vector<SightLineCeilings::Ceiling> lowest;  // height kNone: no line
 };
 
-void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double end_sigmas,
-             FineCeilings* fine) {
+// Where a line counts over the grid: every step_m of its run (from the camera, horizontally),
+// up to end_gap_min_m and its range's end_sigmas short of its point.
+template <class Visit>
+void VisitLine(const SightLine& line, const Raster& grid, double step_m, double end_gap_min_m,
+               double end_sigmas, const Visit& visit) {
   const Eigen::Vector3d d = line.point - line.camera;
   const double run = d.head<2>().norm(), length = d.norm();
   if (!(run > 0.0) || !std::isfinite(length)) return;
@@ -53,9 +56,9 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
   const double end_gap = std::max(end_gap_min_m, end_sigmas * line.range_sigma_m * run / length);
   // Only the stretch over the grid (slabs in x and y).
   double from = 0.0, to = run - end_gap;
-  const double max_x = fine->min_x + fine->cols * fine->cell_m;
-  const double min_y = fine->max_y - fine->rows * fine->cell_m;
-  const double bounds[2][2] = {{fine->min_x, max_x}, {min_y, fine->max_y}};
+  const double max_x = grid.min_x_m + grid.cols * grid.cell_m;
+  const double min_y = grid.max_y_m - grid.rows * grid.cell_m;
+  const double bounds[2][2] = {{grid.min_x_m, max_x}, {min_y, grid.max_y_m}};
   for (int axis = 0; axis < 2; ++axis) {
     const double start = line.camera[axis], per_m = d[axis] / run;
     if (per_m == 0.0) {
@@ -68,10 +71,28 @@ void AddLine(const SightLine& line, double step_m, double end_gap_min_m, double 
   }
   const double first =
       0.5 * step_m + std::ceil(std::max(0.0, from - 0.5 * step_m) / step_m) * step_m;
-  for (double s = first; s < to; s += step_m) {
-    const Eigen::Vector3d q = line.camera + d * (s / run);
+  for (double s = first; s < to; s += step_m)
+    if (!visit(Eigen::Vector3d(line.camera + d * (s / run)))) return;
+}
+
+void AddLine(const SightLine& line, const Raster& grid, double end_sigmas, FineCeilings* fine) {
+  VisitLine(line, grid, 0.5 * fine->cell_m, grid.cell_m, end_sigmas, [&](const Eigen::Vector3d& q) {
     fine->Add(q.x(), q.y(), q.z(), line.point.z());
-  }
+    return true;
+  });
+}
+
+bool IsMismatch(const SightLine& line, const Raster& dem, const Raster& kriging_std,
+                const FreeSpaceOptions& o) {
+  bool under = false;
+  VisitLine(line, dem, 0.5 * dem.cell_m, dem.cell_m, o.end_sigmas, [&](const Eigen::Vector3d& q) {
+    const double ground = dem.Interpolate(q.x(), q.y());
+    const double sigma = kriging_std.Interpolate(q.x(), q.y());
+    under = std::isfinite(ground) && std::isfinite(sigma) &&
+            ground - q.z() > o.mismatch_sigmas * sigma + dem.cell_m;
+    return !under;
+  });
+  return under;
 }
 
 // A line's height over its camera per metre of run.
@@ -80,13 +101,18 @@ double Rise(const SightLine& l) {
   return run > 0.0 ? (l.point.z() - l.camera.z()) / run : kNone;
 }
 
-// One line per camera and ceiling_cell_m square of the points' positions, the one that rises
-// least (its height over the camera per metre run): the lines of one camera to the points of
-// one small square run side by side, and that one is below the others all along (to within
-// the square's width). Not the line to the lowest point: above the eye a farther point a
-// little higher can lie under a lower, nearer one's line (a riser seen from below). The near
-// ground is matched densely, so this leaves a fraction of the lines.
-std::vector<SightLine> LowestLinePerSquare(const std::vector<SightLine>& lines, double cell_m) {
+// The lines grouped by camera and ceiling_cell_m square of their points' positions, each
+// group in the order its lines rise (their height over the camera per metre run): the lines of
+// one camera to the points of one small square run side by side, and the first is below the
+// others all along (to within the square's width). Not the line to the lowest point: above
+// the eye a farther point a little higher can lie under a lower, nearer one's line (a riser
+// seen from below). Line indices, and where each group starts (and, last, the end).
+struct LinesBySquare {
+  std::vector<size_t> line;
+  std::vector<size_t> start;
+};
+
+LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) {
   struct Keyed {
     std::array<double, 3> camera;
     int64_t col, row;
@@ -111,31 +137,67 @@ std::vector<SightLine> LowestLinePerSquare(const std::vector<SightLine>& lines, 
     const double ra = Rise(lines[a.index]), rb = Rise(lines[b.index]);
     return ra != rb ? ra < rb : a.index < b.index;
   });
-  std::vector<SightLine> lowest;
-  for (size_t k = 0; k < keyed.size(); ++k)
-    if (k == 0 || !same_square(keyed[k - 1], keyed[k])) lowest.push_back(lines[keyed[k].index]);
+  LinesBySquare groups;
+  for (size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || !same_square(keyed[k - 1], keyed[k])) groups.start.push_back(k);
+    groups.line.push_back(keyed[k].index);
+  }
+  groups.start.push_back(keyed.size());
+  return groups;
+}
+
+// Per group, its lowest line (the near ground is matched densely, so this leaves a fraction of
+// the lines); with a kriging std, its lowest line that is no far mismatch, those before it
+// counted in `mismatched`.
+std::vector<size_t> LowestLinePerSquare(const std::vector<SightLine>& lines,
+                                        const FreeSpaceOptions& o, const Raster& dem,
+                                        const Raster* kriging_std, int* mismatched) {
+  if (kriging_std && kriging_std->values.size() != dem.values.size())
+    throw std::invalid_argument("FindSightLineCeilings: the std grid differs from the DEM's");
+  const LinesBySquare groups = GroupBySquare(lines, o.ceiling_cell_m);
+  const int count = static_cast<int>(groups.start.size()) - 1;
+  constexpr size_t kNoLine = std::numeric_limits<size_t>::max();
+  std::vector<size_t> chosen(count, kNoLine);
+  std::vector<int> dropped(count, 0);
+  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) {
+    for (int g = range.start; g < range.end; ++g)
+      for (size_t k = groups.start[g]; k < groups.start[g + 1]; ++k) {
+        const size_t i = groups.line[k];
+        if (!kriging_std || !lines[i].far || !IsMismatch(lines[i], dem, *kriging_std, o)) {
+          chosen[g] = i;
+          break;
+        }
+        ++dropped[g];
+      }
+  });
+  std::vector<size_t> lowest;
+  for (int g = 0; g < count; ++g) {
+    if (chosen[g] != kNoLine) lowest.push_back(chosen[g]);
+    *mismatched += dropped[g];
+  }
   return lowest;
 }
 
 }  // namespace
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
-                                        const FreeSpaceOptions& o) {
+                                        const FreeSpaceOptions& o, const Raster* kriging_std) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
   const int ratio = std::max(1, static_cast<int>(std::lround(grid.cell_m / o.ceiling_cell_m)));
+  SightLineCeilings out;
+  const std::vector<size_t> lowest =
+      LowestLinePerSquare(lines, o, grid, kriging_std, &out.mismatched);
   // Fixed chunks, merged in order: the same result on any number of threads.
   constexpr int kChunks = 16;
   std::vector<FineCeilings> chunks(kChunks, FineCeilings(grid, ratio));
-  const std::vector<SightLine> lowest = LowestLinePerSquare(lines, o.ceiling_cell_m);
   cv::parallel_for_(cv::Range(0, kChunks), [&](const cv::Range& range) {
     for (int k = range.start; k < range.end; ++k)
       for (size_t i = k; i < lowest.size(); i += kChunks)
-        AddLine(lowest[i], 0.5 * chunks[k].cell_m, grid.cell_m, o.end_sigmas, &chunks[k]);
+        AddLine(lines[lowest[i]], grid, o.end_sigmas, &chunks[k]);
   });
   for (int k = 1; k < kChunks; ++k) chunks[0].Merge(chunks[k]);
   const FineCeilings& fine = chunks[0];
-  SightLineCeilings out;
   out.per_cell = Raster::Make(grid.min_x_m, grid.max_y_m, grid.cell_m, grid.cols, grid.rows);
   out.per_cell.crs_wkt = grid.crs_wkt;
   out.landing_per_cell = out.per_cell;

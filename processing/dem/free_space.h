@@ -34,6 +34,7 @@ struct FreeSpaceOptions {
   double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
   double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
+  double mismatch_sigmas = 3.0;  // a line this far under the kriged ground (and a cell) is dropped
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"keep the DEM below every line of sight over it", "", 0, 1});
@@ -43,15 +44,32 @@ struct FreeSpaceOptions {
       {"the lowest line of sight per square this wide constrains the DEM", "m", 0.05, 10});
     v("tolerance_m", self.tolerance_m,
       {"a surface this far above a line of sight is left alone", "m", 0, 10});
+    v("mismatch_sigmas", self.mismatch_sigmas,
+      {"a line of sight passing this many kriging sigmas (and a cell) under the kriged ground "
+       "is taken for a mismatch",
+       "", 0, 1000});
   }
   bool Check(std::string* why) const;
 };
 
+// A point beyond the ground the DEM is kriged from (`far`) has been judged by nothing but its
+// neighbours' heights, and its line can only cut. Where that line passes under the kriged
+// ground by more than mismatch_sigmas of the kriging std and a cell (on ground as steep as 45
+// degrees the bilinear surface of the cell centres stands a cell above ground a line grazed),
+// it is taken for a mismatch, not evidence: its point was matched behind the ground its camera
+// saw (a repeated texture 20-40 m under a hill, badlands seed 5), and its line would cut that
+// ground down to itself. Kriging bridges a riser hidden below a tread with a std of a metre or
+// more where it is far from the points, so the lines to the lower treads still bring it down.
+// The points near the square are the ground's own (blunder, object and ground filters), and
+// their lines are kept even where kriging is confident: a riser bridged at a few decimetres
+// is what free space is for.
+//
 // One seen point and the camera that saw it, in the DEM's frame.
 struct SightLine {
   Eigen::Vector3d camera = Eigen::Vector3d::Zero();
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   double range_sigma_m = 0.0;  // along the line
+  bool far = false;            // its point lies beyond the ground the DEM is kriged from
 };
 
 // The lowest lines of sight over the DEM's grid.
@@ -63,10 +81,14 @@ struct SightLineCeilings {
   std::vector<Ceiling> ceilings;  // one per ceiling_cell_m square a line passed over
   Raster per_cell;                // the lowest line over each DEM cell's square (nodata: none)
   Raster landing_per_cell;        // where that lowest line landed: the first ground seen past
+  int mismatched = 0;  // lines that would have counted, dropped as mismatches (kriging_std given)
 };
 
+// grid: the kriged DEM, before any line lowered it; with its kriging_std, the far lines that
+// pass under it as a mismatch would are dropped first.
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
-                                        const FreeSpaceOptions& options);
+                                        const FreeSpaceOptions& options,
+                                        const Raster* kriging_std = nullptr);
 
 struct FreeSpaceResult {
   int cells_lowered = 0;

@@ -15,18 +15,20 @@
 namespace ts {
 
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s) {
-  // Only the neighbourhood of the DEM square matters from here on.
+  // Every point: a line of sight to a point beyond the neighbourhood passes over the square too.
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(w->cloud.size());
+  for (const CloudPoint& p : w->cloud) positions.push_back(p.position_m);
+  w->blunder = FindHeightBlunders(positions, o.blunders);
+  // Only the neighbourhood of the DEM square is made into ground from here on.
   const double reach = o.dem_half_size_m + o.cloud_margin_m;
   w->point_class.assign(w->cloud.size(), kOutsideDem);
-  for (size_t i = 0; i < w->cloud.size(); ++i) {
-    const Eigen::Vector3d& p = w->cloud[i].position_m;
-    if (std::abs(p.x()) <= reach && std::abs(p.y()) <= reach)
-      w->region.push_back(p), w->region_index.push_back(static_cast<int>(i));
-  }
-  w->blunder = FindHeightBlunders(w->region, o.blunders);
   size_t blunders = 0;
-  for (size_t i = 0; i < w->region.size(); ++i) {
-    w->point_class[w->region_index[i]] = w->blunder[i] ? kBlunder : kObject;
+  for (size_t i = 0; i < w->cloud.size(); ++i) {
+    const Eigen::Vector3d& p = positions[i];
+    if (std::abs(p.x()) > reach || std::abs(p.y()) > reach) continue;
+    w->region.push_back(p), w->region_index.push_back(static_cast<int>(i));
+    w->point_class[i] = w->blunder[i] ? kBlunder : kObject;
     blunders += w->blunder[i];
   }
   s->counts = {{"points", w->cloud.size()},
@@ -55,8 +57,8 @@ bool FindObjectsAlongSightLines(const ProcessOptions& o, StationWork* w, StepSum
     w->station_viewpoint += centre / w->viewpoints.size();
   const SightLineObjects seen = FindSightLineObjects(w->cloud, w->viewpoints, o.sight_lines);
   for (size_t i = 0; i < w->region.size(); ++i) {
-    if (w->blunder[i]) continue;
     const int index = w->region_index[i];
+    if (w->blunder[index]) continue;
     if (seen.floating[index] || seen.on_face[index])
       w->seen_objects.push_back(w->region[i]);
     else
@@ -169,18 +171,19 @@ bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s) 
 
 bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   const StationInputs& in = *w->inputs;
-  // Every point near the square but the height blunders, from the left camera of its pair:
-  // ground and objects (a line to a tree's crown passes over ground too), and points the
-  // sight-line tests took for objects (a trunk is solid; a point matched in front of the
-  // surface stops its line short of the ground). Only a point matched behind the surface
-  // would cut into it, by more than its range sigma; beyond the neighbourhood no blunder
-  // filter has looked, and lines to points there cut terraces wrongly.
+  // Every point but the height blunders, from the left camera of its pair: ground and objects
+  // (a line to a tree's crown passes over ground too), points the sight-line tests took for
+  // objects (a trunk is solid; a point matched in front of the surface stops its line short
+  // of the ground), and points beyond the neighbourhood (the line to a lower terrace 50 m
+  // out passes over the riser before it). Only a point matched behind the surface would cut
+  // into it, by more than its range sigma; one beyond the neighbourhood is judged against the
+  // kriged ground (free_space.h).
   std::vector<SightLine> lines;
-  lines.reserve(w->region.size());
-  for (size_t i = 0; i < w->region.size(); ++i) {
+  lines.reserve(w->cloud.size());
+  for (size_t i = 0; i < w->cloud.size(); ++i) {
     if (w->blunder[i]) continue;
-    const CloudPoint& p = w->cloud[w->region_index[i]];
-    SightLine line{w->viewpoints.at(p.pair), p.position_m, 0.0};
+    const CloudPoint& p = w->cloud[i];
+    SightLine line{w->viewpoints.at(p.pair), p.position_m, 0.0, w->point_class[i] == kOutsideDem};
     const Eigen::Vector3d ray = (line.point - line.camera).normalized();
     line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
     if (in.georeference) {
@@ -189,10 +192,11 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
     }
     lines.push_back(line);
   }
-  w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space);
+  w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space, &w->kriged.std);
   const FreeSpaceResult lowered =
       LowerBelowSightLines(w->ceilings, o.free_space, &w->kriged.dem, &w->kriged.std);
   s->counts = {{"sight_lines", lines.size()},
+               {"mismatched_sight_lines", w->ceilings.mismatched},
                {"ceilings", w->ceilings.ceilings.size()},
                {"cells_lowered", lowered.cells_lowered},
                {"mean_lowering_m", lowered.mean_lowering_m},

@@ -35,7 +35,7 @@ struct StationWork {
   // The neighbourhood of the DEM square: positions and their index in the cloud.
   std::vector<Eigen::Vector3d> region;
   std::vector<int> region_index;
-  std::vector<uint8_t> blunder;            // per region point
+  std::vector<uint8_t> blunder;            // per cloud point
   std::vector<uint8_t> floating, on_face;  // per cloud point (objects along the lines of sight)
   // Region points that are no blunder and no sight-line object, and those objects.
   std::vector<Eigen::Vector3d> kept, seen_objects;
