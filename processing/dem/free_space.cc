@@ -1,13 +1,17 @@
 #include "processing/dem/free_space.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <tuple>
+#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 namespace ts {
@@ -116,6 +120,7 @@ LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) 
   struct Keyed {
     std::array<double, 3> camera;
     int64_t col, row;
+    double rise;
     size_t index;
   };
   std::vector<Keyed> keyed;
@@ -126,24 +131,40 @@ LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) 
     keyed.push_back({{l.camera.x(), l.camera.y(), l.camera.z()},
                      static_cast<int64_t>(std::floor(l.point.x() / cell_m)),
                      static_cast<int64_t>(std::floor(l.point.y() / cell_m)),
+                     Rise(l),
                      i});
   }
-  auto same_square = [](const Keyed& a, const Keyed& b) {
-    return a.camera == b.camera && a.col == b.col && a.row == b.row;
-  };
-  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& b) {
-    if (!same_square(a, b))
-      return std::tie(a.camera, a.col, a.row) < std::tie(b.camera, b.col, b.row);
-    const double ra = Rise(lines[a.index]), rb = Rise(lines[b.index]);
-    return ra != rb ? ra < rb : a.index < b.index;
+  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    return std::tie(a.camera, a.col, a.row, a.rise, a.index) <
+           std::tie(b.camera, b.col, b.row, b.rise, b.index);
   });
   LinesBySquare groups;
   for (size_t k = 0; k < keyed.size(); ++k) {
-    if (k == 0 || !same_square(keyed[k - 1], keyed[k])) groups.start.push_back(k);
+    const bool same = k > 0 && keyed[k - 1].camera == keyed[k].camera &&
+                      keyed[k - 1].col == keyed[k].col && keyed[k - 1].row == keyed[k].row;
+    if (!same) groups.start.push_back(k);
     groups.line.push_back(keyed[k].index);
   }
   groups.start.push_back(keyed.size());
   return groups;
+}
+
+// Per line, its camera's and its point's square's key (-1: not a finite line).
+std::vector<int64_t> CameraSquareKeys(const std::vector<SightLine>& lines, double cell_m) {
+  std::map<std::array<double, 3>, int64_t> cameras;
+  std::vector<int64_t> key(lines.size(), -1);
+  constexpr int64_t kSpan = int64_t{1} << 21;  // squares per axis; the camera's index above
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const SightLine& l = lines[i];
+    if (!l.point.allFinite() || !l.camera.allFinite()) continue;
+    const int64_t col = static_cast<int64_t>(std::floor(l.point.x() / cell_m)) + kSpan / 2;
+    const int64_t row = static_cast<int64_t>(std::floor(l.point.y() / cell_m)) + kSpan / 2;
+    if (col < 0 || row < 0 || col >= kSpan || row >= kSpan) continue;
+    const auto [it, added] = cameras.try_emplace({l.camera.x(), l.camera.y(), l.camera.z()},
+                                                 static_cast<int64_t>(cameras.size()));
+    key[i] = (it->second * kSpan + col) * kSpan + row;
+  }
+  return key;
 }
 
 // Per group, its lowest line (the near ground is matched densely, so this leaves a fraction of
@@ -178,6 +199,58 @@ std::vector<size_t> LowestLinePerSquare(const std::vector<SightLine>& lines,
   return lowest;
 }
 
+// Per ceiling_cell_m square over the ground points' extent: the second lowest point's height
+// less the square's diagonal and sigmas of its height sigma (nodata: fewer than two points).
+Raster SeenGroundFloor(const std::vector<Eigen::Vector3d>& ground,
+                       const std::vector<double>& variances_m2, const FreeSpaceOptions& o) {
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector3d& p : ground)
+    if (p.allFinite()) box.extend(p.head<2>());
+  const double cell = o.ceiling_cell_m;
+  if (box.isEmpty()) return Raster::Make(0.0, 0.0, cell, 0, 0);
+  const int cols = static_cast<int>(std::floor(box.sizes().x() / cell)) + 1;
+  const int rows = static_cast<int>(std::floor(box.sizes().y() / cell)) + 1;
+  Raster floor = Raster::Make(box.min().x(), box.max().y(), cell, cols, rows);
+  struct Lowest {
+    double z[2] = {kNone, kNone};
+    double variance[2] = {0.0, 0.0};
+  };
+  std::vector<Lowest> lowest(floor.values.size());
+  for (size_t i = 0; i < ground.size(); ++i) {
+    int r = 0, c = 0;
+    if (!ground[i].allFinite() || !floor.CellOf(ground[i].x(), ground[i].y(), &r, &c)) continue;
+    Lowest& l = lowest[static_cast<size_t>(r) * cols + c];
+    const double z = ground[i].z(), v = variances_m2.empty() ? 0.0 : variances_m2[i];
+    if (z < l.z[0]) {
+      l.z[1] = l.z[0], l.variance[1] = l.variance[0];
+      l.z[0] = z, l.variance[0] = v;
+    } else if (z < l.z[1]) {
+      l.z[1] = z, l.variance[1] = v;
+    }
+  }
+  const double diagonal = std::sqrt(2.0) * cell;
+  for (size_t k = 0; k < lowest.size(); ++k)
+    if (lowest[k].z[1] != kNone)
+      floor.values[k] = static_cast<float>(lowest[k].z[1] - diagonal -
+                                           o.seen_ground_sigmas * std::sqrt(lowest[k].variance[1]));
+  return floor;
+}
+
+bool PassesThroughSeenGround(const SightLine& line, const Raster& floor, double min_gap_m,
+                             const FreeSpaceOptions& o) {
+  int squares = 0;
+  int last_r = -1, last_c = -1;
+  VisitLine(line, floor, 0.5 * floor.cell_m, min_gap_m, o.end_sigmas,
+            [&](const Eigen::Vector3d& q) {
+              int r = 0, c = 0;
+              if (!floor.CellOf(q.x(), q.y(), &r, &c) || (r == last_r && c == last_c)) return true;
+              const float seen = floor.at(r, c);
+              if (Raster::IsNoData(seen) || q.z() >= seen) return true;
+              last_r = r, last_c = c;
+              return ++squares < o.seen_ground_witnesses;
+            });
+  return squares >= o.seen_ground_witnesses;
+}
 }  // namespace
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
@@ -212,6 +285,51 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
       out.landing_per_cell.at(r / ratio, c / ratio) = static_cast<float>(e.landing);
     }
   return out;
+}
+
+std::vector<uint8_t> FindLinesThroughSeenGround(const std::vector<SightLine>& lines,
+                                                const std::vector<Eigen::Vector3d>& ground,
+                                                const std::vector<double>& ground_variances_m2,
+                                                double min_gap_m, const FreeSpaceOptions& o) {
+  std::string why;
+  if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
+  if (!ground_variances_m2.empty() && ground_variances_m2.size() != ground.size())
+    throw std::invalid_argument(
+        "FindLinesThroughSeenGround: one height variance per point or none");
+  std::vector<uint8_t> through(lines.size(), 0);
+  if (!o.enabled) return through;
+  const Raster floor = SeenGroundFloor(ground, ground_variances_m2, o);
+  if (floor.values.empty()) return through;
+  // Of one camera's lines to the points of one square min_gap_m wide, the one that rises least
+  // runs below the others up to where they stop counting, beside them by less than that width
+  // (a blunder behind seen ground lies metres under it): only where it went through are the
+  // others looked at.
+  const std::vector<int64_t> key = CameraSquareKeys(lines, min_gap_m);
+  std::unordered_map<int64_t, size_t> least;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (key[i] < 0) continue;
+    auto [it, added] = least.try_emplace(key[i], i);
+    if (!added && Rise(lines[i]) < Rise(lines[it->second])) it->second = i;
+  }
+  std::vector<size_t> first;
+  first.reserve(least.size());
+  for (const auto& [k, i] : least) first.push_back(i);
+  std::sort(first.begin(), first.end());
+  auto judge = [&](const std::vector<size_t>& which) {
+    cv::parallel_for_(cv::Range(0, static_cast<int>(which.size())), [&](const cv::Range& range) {
+      for (int j = range.start; j < range.end; ++j)
+        through[which[j]] = PassesThroughSeenGround(lines[which[j]], floor, min_gap_m, o);
+    });
+  };
+  judge(first);
+  std::unordered_set<int64_t> refuted;
+  for (size_t i : first)
+    if (through[i]) refuted.insert(key[i]);
+  std::vector<size_t> rest;
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (key[i] >= 0 && refuted.count(key[i]) && least.at(key[i]) != i) rest.push_back(i);
+  judge(rest);
+  return through;
 }
 
 FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings, const FreeSpaceOptions& o,

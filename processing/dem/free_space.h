@@ -21,6 +21,7 @@
 // height of the point it went to. Over ground hidden behind a brow, the lowest line grazes
 // the brow and lands on the first ground seen past the hidden stretch (ground_room.h).
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct FreeSpaceOptions {
   double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
   double mismatch_sigmas = 3.0;  // a line this far under the kriged ground (and a cell) is dropped
+  double seen_ground_sigmas =
+      3.0;  // a line this far under seen ground (and a square) went through it
+  int seen_ground_witnesses = 2;  // in at least this many squares
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"keep the DEM below every line of sight over it", "", 0, 1});
@@ -45,9 +49,16 @@ struct FreeSpaceOptions {
     v("tolerance_m", self.tolerance_m,
       {"a surface this far above a line of sight is left alone", "m", 0, 10});
     v("mismatch_sigmas", self.mismatch_sigmas,
-      {"a line of sight passing this many kriging sigmas (and a cell) under the kriged ground "
-       "is taken for a mismatch",
+      {"a line of sight to a point beyond the square passing this many kriging sigmas (and a "
+       "cell) under the kriged ground is taken for a mismatch",
        "", 0, 1000});
+    v("seen_ground_sigmas", self.seen_ground_sigmas,
+      {"a line of sight passing this many height sigmas (and a square's diagonal) under the "
+       "ground points of a square went through seen ground",
+       "", 0, 1000});
+    v("seen_ground_witnesses", self.seen_ground_witnesses,
+      {"squares of seen ground a line of sight must pass under to have gone through it", "", 1,
+       1000});
   }
   bool Check(std::string* why) const;
 };
@@ -89,6 +100,21 @@ struct SightLineCeilings {
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
                                         const FreeSpaceOptions& options,
                                         const Raster* kriging_std = nullptr);
+
+// A line of sight cannot pass under ground that was seen: its point was matched behind the
+// surface in front of it (a repeated texture 20 m under a hill, badlands seed 5), however
+// well it agrees with its few neighbours there. The seen ground of a ceiling_cell_m square is
+// the second lowest ground point in it (one point alone may be a blunder itself); not the
+// kriged ground, which bridges the hidden foot of a riser that the lines to the tread below
+// rightly pass under. A line that passes under it by more than the square's diagonal (ground
+// as steep as 45 degrees within the square) and seen_ground_sigmas of that point's height
+// sigma, in seen_ground_witnesses squares or more before it stops short of its point (as in
+// FindSightLineCeilings, at least min_gap_m), went through the ground. ground_variances_m2:
+// one per ground point, or none. Per line, 1 where it went through seen ground.
+std::vector<uint8_t> FindLinesThroughSeenGround(const std::vector<SightLine>& lines,
+                                                const std::vector<Eigen::Vector3d>& ground,
+                                                const std::vector<double>& ground_variances_m2,
+                                                double min_gap_m, const FreeSpaceOptions& options);
 
 struct FreeSpaceResult {
   int cells_lowered = 0;

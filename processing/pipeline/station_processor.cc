@@ -23,6 +23,7 @@ const std::pair<const char*, StationStep> kStationSteps[] = {
     {"sight_line_objects", FindObjectsAlongSightLines},
     {"ground_filter", FilterGroundPoints},
     {"underside_patches", RemoveUndersidePatches},
+    {"seen_through_ground", RemovePointsSeenThroughGround},
     {"kriging", KrigeStationDem},
     {"horizon_limit", LimitDemToHorizon},
     {"free_space", KeepBelowSightLines},

@@ -14,6 +14,27 @@
 
 namespace ts {
 
+namespace {
+
+// The line of sight from the left camera of a cloud point's pair to it, in L.
+SightLine SightLineOf(const StationWork& w, size_t i) {
+  const CloudPoint& p = w.cloud[i];
+  SightLine line{w.viewpoints.at(p.pair), p.position_m, 0.0, w.point_class[i] == kOutsideDem};
+  const Eigen::Vector3d ray = (line.point - line.camera).normalized();
+  line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
+  return line;
+}
+
+template <class T>
+void KeepWhere(const std::vector<uint8_t>& keep, std::vector<T>* v) {
+  size_t n = 0;
+  for (size_t k = 0; k < v->size(); ++k)
+    if (keep[k]) (*v)[n++] = std::move((*v)[k]);
+  v->resize(n);
+}
+
+}  // namespace
+
 bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* s) {
   // Every point: a line of sight to a point beyond the neighbourhood passes over the square too.
   std::vector<Eigen::Vector3d> positions;
@@ -87,10 +108,40 @@ bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary
     const CloudPoint& point = w->cloud[w->kept_index[i]];
     w->ground.height_variances_m2.push_back(point.covariance_m2(2, 2));
     w->ground.matches.push_back({point.pair, point.window});
+    w->ground_index.push_back(w->kept_index[i]);
   }
   s->counts = {{"underside_patches", underside.underside_patches},
                {"patches_among_objects", underside.among_objects},
                {"ground", w->ground.positions.size()}};
+  if (w->ground.positions.empty()) {
+    s->message = "no ground point left to make a DEM of";
+    return false;
+  }
+  return true;
+}
+
+bool RemovePointsSeenThroughGround(const ProcessOptions& o, StationWork* w, StepSummary* s) {
+  std::vector<SightLine> lines;
+  std::vector<size_t> point_of_line;
+  for (size_t i = 0; i < w->cloud.size(); ++i)
+    if (!w->blunder[i]) lines.push_back(SightLineOf(*w, i)), point_of_line.push_back(i);
+  const std::vector<uint8_t> through = FindLinesThroughSeenGround(
+      lines, w->ground.positions, w->ground.height_variances_m2, o.dem_cell_m, o.free_space);
+  size_t count = 0;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    if (!through[k]) continue;
+    const size_t i = point_of_line[k];
+    w->blunder[i] = 1, ++count;
+    if (w->point_class[i] != kOutsideDem) w->point_class[i] = kBlunder;
+  }
+  std::vector<uint8_t> keep(w->ground_index.size());
+  for (size_t j = 0; j < keep.size(); ++j) keep[j] = !w->blunder[w->ground_index[j]];
+  KeepWhere(keep, &w->ground.positions), KeepWhere(keep, &w->ground.height_variances_m2);
+  KeepWhere(keep, &w->ground.matches), KeepWhere(keep, &w->ground_index);
+  keep.assign(w->kept_index.size(), 0);
+  for (size_t j = 0; j < keep.size(); ++j) keep[j] = !w->blunder[w->kept_index[j]];
+  KeepWhere(keep, &w->kept), KeepWhere(keep, &w->kept_index), KeepWhere(keep, &w->ground_of_kept);
+  s->counts = {{"seen_through_ground", count}};
   if (w->ground.positions.empty()) {
     s->message = "no ground point left to make a DEM of";
     return false;
@@ -182,10 +233,7 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
   lines.reserve(w->cloud.size());
   for (size_t i = 0; i < w->cloud.size(); ++i) {
     if (w->blunder[i]) continue;
-    const CloudPoint& p = w->cloud[i];
-    SightLine line{w->viewpoints.at(p.pair), p.position_m, 0.0, w->point_class[i] == kOutsideDem};
-    const Eigen::Vector3d ray = (line.point - line.camera).normalized();
-    line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
+    SightLine line = SightLineOf(*w, i);
     if (in.georeference) {
       line.camera = in.georeference->ToWorld(line.camera);
       line.point = in.georeference->ToWorld(line.point);

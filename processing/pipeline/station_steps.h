@@ -2,8 +2,9 @@
 // The station-wide steps of `process`, after every pair has been matched into L (DESIGN.md
 // "Processing pipeline"), each a function over the station's working state:
 //   FilterHeightBlunders -> FindObjectsAlongSightLines -> FilterGroundPoints ->
-//   RemoveUndersidePatches -> KrigeStationDem -> LimitDemToHorizon -> KeepBelowSightLines ->
-//   WidenStdByGroundRoom -> AddSightTiltSigma -> CorrectTerrain
+//   RemoveUndersidePatches -> RemovePointsSeenThroughGround -> KrigeStationDem ->
+//   LimitDemToHorizon -> KeepBelowSightLines -> WidenStdByGroundRoom -> AddSightTiltSigma ->
+//   CorrectTerrain
 // A step fills its StepSummary (counts, warnings) and returns false with summary->message on
 // failure; processing code below may throw, which the StepRunner catches.
 #include <Eigen/Core>
@@ -42,6 +43,7 @@ struct StationWork {
   std::vector<int> kept_index;
   std::vector<uint8_t> ground_of_kept;                   // ground filter's verdict per kept point
   KrigingPoints ground;                                  // the ground points, in the DEM's frame
+  std::vector<int> ground_index;                         // their index in the cloud
   Eigen::Vector2d station_xy = Eigen::Vector2d::Zero();  // the mark, in the DEM's frame
   Eigen::Vector3d mark_dem = Eigen::Vector3d::Zero();
   KrigingResult kriged;
@@ -61,6 +63,9 @@ bool FilterHeightBlunders(const ProcessOptions& o, StationWork* w, StepSummary* 
 bool FindObjectsAlongSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool FilterGroundPoints(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool RemoveUndersidePatches(const ProcessOptions& o, StationWork* w, StepSummary* s);
+// Points whose line of sight went through the ground other points saw are blunders
+// (free_space.h's FindLinesThroughSeenGround): out of the ground, and their lines not drawn.
+bool RemovePointsSeenThroughGround(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool KrigeStationDem(const ProcessOptions& o, StationWork* w, StepSummary* s);
 bool LimitDemToHorizon(const ProcessOptions& o, StationWork* w, StepSummary* s);
 // No DEM surface above a line of sight over it (free_space.h): every seen point's line.

@@ -94,9 +94,9 @@ TEST_F(StationProcessorTest, PairsHandedInGiveTheProductsOfProcessToTheBit) {
   EXPECT_FALSE(r["software"]["version"].get<std::string>().empty());
   EXPECT_EQ(r["options"]["kriging"]["max_distance_m"].get<double>(), 5.5);
   EXPECT_EQ(r["options"]["matching"]["lsm"]["half_window_px"].get<double>(), 8);
-  for (const char* step :
-       {"load", "matching", "rig", "blunder_filter", "sight_line_objects", "ground_filter",
-        "underside_patches", "kriging", "horizon_limit", "terrain_correction", "products"})
+  for (const char* step : {"load", "matching", "rig", "blunder_filter", "sight_line_objects",
+                           "ground_filter", "underside_patches", "seen_through_ground", "kriging",
+                           "horizon_limit", "terrain_correction", "products"})
     EXPECT_TRUE(r["timings_s"].contains(step)) << step;
 }
 

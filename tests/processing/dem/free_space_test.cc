@@ -191,6 +191,78 @@ TEST(FreeSpace, LinesUnderABridgeKrigedFarFromThePointsAreEvidence) {
   EXPECT_EQ(tight.mismatched, static_cast<int>(lines.size()));
 }
 
+// Ground seen as points, four per quarter-metre square across y -2..2 with a height sigma of
+// 2 cm: level (z = 0) out to 10 m, a hump 0.5 m high 10-14 m out, the field 20-30 m out that
+// a camera 1.5 m up sees over it (the line to 20 m is 0.6 m high over 12 m). The ground just
+// behind the hump is hidden.
+std::vector<Eigen::Vector3d> SeenOverAHump() {
+  std::vector<Eigen::Vector3d> ground;
+  for (double y = -1.9375; y < 2.0; y += 0.125)
+    for (double x = 1.0625; x < 30.0; x += 0.125) {
+      if (x >= 14.0 && x < 20.0) continue;
+      ground.emplace_back(x, y, x >= 10.0 && x < 14.0 ? 0.5 : 0.0);
+    }
+  return ground;
+}
+
+std::vector<SightLine> LinesTo(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<SightLine> lines;
+  for (const Eigen::Vector3d& p : points) lines.push_back({{0.0, 0.0, kEye}, p, 0.02});
+  return lines;
+}
+
+// A point matched 40 m out and 5 m down: its line passes under the hump by 1.2-1.5 m (and
+// under the level ground before it), which the cameras saw. A point of the hidden ground just
+// behind the hump is as impossible to see. The lines to the ground seen, and to the field 45 m
+// out past it, pass over.
+TEST(FreeSpace, ALineUnderGroundThatOtherPointsSawWentThroughIt) {
+  const std::vector<Eigen::Vector3d> ground = SeenOverAHump();
+  std::vector<Eigen::Vector3d> points = ground;
+  points.emplace_back(40.0, 0.1, -5.0);  // behind the hill
+  points.emplace_back(16.0, 0.1, -0.3);  // hidden behind the hump
+  points.emplace_back(45.0, 0.1, 0.0);   // the field seen farther
+  const std::vector<double> variances(ground.size(), 0.02 * 0.02);
+  const std::vector<uint8_t> through =
+      FindLinesThroughSeenGround(LinesTo(points), ground, variances, 1.0, {});
+  ASSERT_EQ(through.size(), points.size());
+  for (size_t i = 0; i < ground.size(); ++i) ASSERT_EQ(through[i], 0) << ground[i].transpose();
+  EXPECT_EQ(through[ground.size()], 1);
+  EXPECT_EQ(through[ground.size() + 1], 1);
+  EXPECT_EQ(through[ground.size() + 2], 0);
+  FreeSpaceOptions off;
+  off.enabled = false;
+  for (uint8_t t : FindLinesThroughSeenGround(LinesTo(points), ground, variances, 1.0, off))
+    EXPECT_EQ(t, 0);
+  EXPECT_THROW(FindLinesThroughSeenGround(LinesTo(points), ground, {0.1}, 1.0, {}),
+               std::invalid_argument);
+}
+
+// Over level seen ground, a line may pass under a square's second lowest point by its diagonal
+// (ground as steep as 45 degrees in the square) and 3 of its sigmas: a point matched 0.3 m low
+// at 30 m is kept (its line is 0.18 m under the ground 2 m before it), one 2 m low is not.
+// One point alone in a square, or one square, is no witness: a blunder floating 3 m up over
+// 12 m does not refute the lines under it; four points there, one square, do not either,
+// unless one square is asked for.
+TEST(FreeSpace, WhatWitnessesALineThroughSeenGround) {
+  std::vector<Eigen::Vector3d> level;
+  for (double y = -1.9375; y < 2.0; y += 0.125)
+    for (double x = 1.0625; x < 30.0; x += 0.125) level.emplace_back(x, y, 0.0);
+  const std::vector<double> variances(level.size(), 0.02 * 0.02);
+  const std::vector<SightLine> low = LinesTo({{30.0, 0.1, -0.3}, {30.0, 0.1, -2.0}});
+  const std::vector<uint8_t> judged = FindLinesThroughSeenGround(low, level, variances, 1.0, {});
+  EXPECT_EQ(judged[0], 0);
+  EXPECT_EQ(judged[1], 1);
+
+  const std::vector<SightLine> under = LinesTo({{30.0, 0.05, 0.0}});
+  std::vector<Eigen::Vector3d> floating = {{12.05, 0.05, 3.0}};
+  EXPECT_EQ(FindLinesThroughSeenGround(under, floating, {}, 1.0, {})[0], 0);
+  for (double dx : {0.05, 0.1, 0.15}) floating.emplace_back(12.0 + dx, 0.02, 3.0);
+  EXPECT_EQ(FindLinesThroughSeenGround(under, floating, {}, 1.0, {})[0], 0);
+  FreeSpaceOptions one;
+  one.seen_ground_witnesses = 1;
+  EXPECT_EQ(FindLinesThroughSeenGround(under, floating, {}, 1.0, one)[0], 1);
+}
+
 TEST(FreeSpace, NoDataCellsStayNoData) {
   Raster dem = Level(1.0);
   dem.at(10, 10) = Raster::kNoData;
