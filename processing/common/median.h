@@ -1,5 +1,6 @@
 #pragma once
-// The median of a sample (the upper of the two middle values for an even count; 0 for none).
+// The median of a sample (the upper of the two middle values for an even count; 0 for none),
+// and any quantile of it (the value at rank floor(q n), q in [0, 1)).
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -13,6 +14,15 @@ double MedianInPlace(std::vector<T>* values) {
   const auto middle = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
   std::nth_element(values->begin(), middle, values->end());
   return static_cast<double>(*middle);
+}
+
+template <class T>
+double QuantileInPlace(std::vector<T>* values, double q) {
+  if (values->empty()) return 0.0;
+  const size_t rank = std::min(values->size() - 1, static_cast<size_t>(q * values->size()));
+  const auto at = values->begin() + static_cast<std::ptrdiff_t>(rank);
+  std::nth_element(values->begin(), at, values->end());
+  return static_cast<double>(*at);
 }
 
 template <class T>

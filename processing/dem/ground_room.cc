@@ -154,6 +154,26 @@ double ShadowStd(double value, const SightLineCeilings* sight, int r, int c) {
   return std::max(0.0, value - landing) / std::sqrt(3.0);
 }
 
+// How steeply the ground this station saw falls: the seen cells' slope at the quantile.
+double SteepSeenSlope(const Raster& dem, const std::vector<int>& count, double quantile) {
+  std::vector<double> slopes;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c)
+      if (count[static_cast<size_t>(r) * dem.cols + c] > 0 && !Raster::IsNoData(dem.at(r, c)))
+        slopes.push_back(GradientAt(dem, r, c).norm());
+  return QuantileInPlace(&slopes, quantile);
+}
+
+// The std of ground no line of sight passed over (none where one did, or where the lines are
+// not known): anywhere from the DEM down the steep slope over the distance, whose RMS distance
+// from the DEM is the slope times the distance over sqrt(3).
+double UnboundedStd(double steep_slope, double distance_m, const SightLineCeilings* sight, int r,
+                    int c) {
+  if (!sight || sight->per_cell.values.empty() || !Raster::IsNoData(sight->per_cell.at(r, c)))
+    return 0.0;
+  return steep_slope * distance_m / std::sqrt(3.0);
+}
+
 }  // namespace
 
 GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
@@ -177,6 +197,7 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
       if (!no_data.at<uint8_t>(r, c)) cell_of_label[label.at<int>(r, c)] = {c, r};
   SeenTurns turns(dem, count, o.slope_window_m);
   const FinePoints fine_points(ground, dem, o.slope_window_m);
+  const double steep = SteepSeenSlope(dem, count, o.steep_slope_quantile);
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       const size_t cell = static_cast<size_t>(r) * dem.cols + c;
@@ -201,7 +222,8 @@ GroundEstimate EstimateEveryCell(const KrigingPoints& ground, const Raster& dem,
       const double step_m = distance.at<float>(r, c) * dem.cell_m;
       const double reach_m = step_m + fine_points.DistanceToCentre(from.y, from.x);
       const double room =
-          std::max(0.5 * turns.At(from.y, from.x, reach_m) * step_m, ShadowStd(z, sight, r, c));
+          std::max({0.5 * turns.At(from.y, from.x, reach_m) * step_m, ShadowStd(z, sight, r, c),
+                    UnboundedStd(steep, step_m, sight, r, c)});
       out.height.at(r, c) = static_cast<float>(z);
       out.std.at(r, c) = static_cast<float>(std::hypot(Raster::IsNoData(s0) ? 0.0 : s0, room));
     }
@@ -238,6 +260,7 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
   }
   SeenTurns turns(dem, count, o.slope_window_m);
   const FinePoints fine_points(ground, dem, o.slope_window_m);
+  const double steep = SteepSeenSlope(dem, count, o.steep_slope_quantile);
   std::vector<double> widening, departures;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
@@ -252,7 +275,8 @@ GroundRoomResult WidenStdByGroundRoom(const KrigingPoints& ground, const Raster&
       if (count[cell] == 0 || !fine_points.CentreSurrounded(r, c, dem.cell_m)) {
         const double reach_m = fine_points.DistanceToCentre(r, c);
         room =
-            std::max(0.5 * turns.At(r, c, reach_m) * reach_m, ShadowStd(dem.at(r, c), sight, r, c));
+            std::max({0.5 * turns.At(r, c, reach_m) * reach_m, ShadowStd(dem.at(r, c), sight, r, c),
+                      UnboundedStd(steep, reach_m, sight, r, c)});
       }
       double departure = 0.0;
       if (count[cell] > 0) {

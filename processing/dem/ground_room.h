@@ -23,6 +23,12 @@
 //    terrace's lower tread, a dike's far field, a gully's far wall), and kriging bridged the
 //    DEM across. The ground plausibly lies anywhere down to that landing; the RMS distance to
 //    it is taken, if it exceeds the turn's room (the two bound the same unknown).
+//  - in a cell no line of sight passed over, nothing bounds the ground from below, and the
+//    seen ground near it need not say how it goes on: behind a brow the ground turns where
+//    nobody sees (a terrace's riser past the last tread seen, a gully behind its crest). There
+//    it may fall away as steeply as the ground this station saw does (the seen cells' slope at
+//    steep_slope_quantile): anywhere down to that slope times the distance to the points, whose
+//    RMS distance is taken if it exceeds the other rooms.
 #include <string>
 #include <vector>
 
@@ -36,13 +42,18 @@ namespace ts {
 
 struct GroundRoomOptions {
   bool enabled = true;
-  double slope_window_m = 5.0;  // the seen slopes within this of a cell bound its turn
+  double slope_window_m = 5.0;         // the seen slopes within this of a cell bound its turn
+  double steep_slope_quantile = 0.95;  // of the seen slopes: how steeply unbounded ground falls
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"widen the std by what the ground could do", "", 0, 1});
     v("slope_window_m", self.slope_window_m,
       {"how much the seen slopes within this of a cell (at least) turn bounds its unseen ground",
        "m", 0, 100});
+    v("steep_slope_quantile", self.steep_slope_quantile,
+      {"the seen cells' slope at this quantile: how steeply ground no line of sight passed "
+       "over may fall away",
+       "", 0, 1});
   }
   bool Check(std::string* why) const;
 };
@@ -60,7 +71,7 @@ struct GroundRoomResult {
 // falls away behind its brow faster than the line of sight over it, or it would have been seen;
 // the brow's slope carried on stands metres above it. The std is the room the seen ground's
 // turn near that cell leaves over the distance, or below it down to the landing of the line
-// over it, as above.
+// over it, or with no line over it down the station's steep slope, as above.
 struct GroundEstimate {
   Raster height, std;
   std::vector<CellGround> kind;  // per cell

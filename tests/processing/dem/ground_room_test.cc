@@ -7,8 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace ts {
 namespace {
@@ -178,6 +180,63 @@ TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheRoomOfGroundNobodySaw) {
   WidenStdByGroundRoom(ground, dem, &sight, {}, &under_lines);
   EXPECT_NEAR(under_lines.at(10, 6), 0.01, 1e-4);
   EXPECT_NEAR(under_lines.at(10, 7), std::hypot(0.01, 1.2 / std::sqrt(3.0)), 1e-4);
+}
+
+// Level ground seen all round a gap 7-13 m, and a face east of x = 15 m rising at 1 in 1 (a
+// quarter of the seen cells): the station saw ground as steep as 1. The seen slopes within
+// 5 m of the gap's centre turn by 0.25 at most, but no line of sight passed over the gap: its
+// ground may fall away as steeply as the steep ground seen, anywhere down to 1 m per metre
+// from the points, an RMS distance of 2.5 / sqrt(3) m at its centre (2.5 m from the points
+// on the quarter-cell grid the distances are measured on). Where a line passed
+// over it, or with the lines unknown, the turn's room stays; a carried-on cell without a value
+// adds the steep slope over its step from its nearest cell with one.
+TEST(GroundRoom, GroundNoLinePassedOverMayFallAsSteeplyAsTheSteepGroundSeen) {
+  auto face = [](double x) { return x < 15.0 ? 0.0 : x - 15.0; };
+  KrigingPoints ground;
+  Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), kriged_std = dem;
+  for (int r = 0; r < dem.rows; ++r)
+    for (int c = 0; c < dem.cols; ++c) {
+      dem.at(r, c) = static_cast<float>(face(dem.CellCentreX(c)));
+      kriged_std.at(r, c) = 0.01f;
+    }
+  for (double y = 0.125; y < 20.0; y += 0.25)
+    for (double x = 0.125; x < 20.0; x += 0.25)
+      if (x < 7.0 || x >= 13.0 || y < 7.0 || y >= 13.0)
+        ground.positions.emplace_back(x, y, face(x));
+  SightLineCeilings none;
+  none.per_cell = none.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
+  const double d = 2.5;
+  Raster std = kriged_std;
+  WidenStdByGroundRoom(ground, dem, &none, {}, &std);
+  EXPECT_NEAR(std.at(10, 9), std::hypot(0.01, 1.0 * d / std::sqrt(3.0)), 0.01);
+  EXPECT_NEAR(std.at(2, 2), 0.01, 1e-4);  // seen
+
+  SightLineCeilings over = none;
+  over.per_cell.at(10, 9) = dem.at(10, 9) + 0.3f;
+  over.landing_per_cell.at(10, 9) = dem.at(10, 9);
+  for (const SightLineCeilings* sight : std::vector<const SightLineCeilings*>{&over, nullptr}) {
+    Raster turned = kriged_std;
+    WidenStdByGroundRoom(ground, dem, sight, {}, &turned);
+    EXPECT_NEAR(turned.at(10, 9), std::hypot(0.01, 0.5 * 0.25 * d), 0.01);
+  }
+  GroundRoomOptions median;
+  median.steep_slope_quantile = 0.5;  // the level ground's slope
+  Raster level = kriged_std;
+  WidenStdByGroundRoom(ground, dem, &none, median, &level);
+  EXPECT_NEAR(level.at(10, 9), std::hypot(0.01, 0.5 * 0.25 * d), 0.01);
+
+  // Without a value at the gap's centre cell: carried on a metre from its nearest neighbour with
+  // one, whose std it widens by the steep slope over that metre.
+  Raster gap = dem;
+  gap.at(10, 9) = std.at(10, 9) = Raster::kNoData;
+  const GroundEstimate e = EstimateEveryCell(ground, gap, std, &none, nullptr, {});
+  double lowest = 1e9, highest = 0.0;
+  for (const auto& [r, c] : {std::pair{9, 9}, {11, 9}, {10, 8}, {10, 10}}) {
+    lowest = std::min(lowest, std::hypot(double(std.at(r, c)), 1.0 / std::sqrt(3.0)));
+    highest = std::max(highest, std::hypot(double(std.at(r, c)), 1.0 / std::sqrt(3.0)));
+  }
+  EXPECT_GE(e.std.at(10, 9), lowest - 1e-4);
+  EXPECT_LE(e.std.at(10, 9), highest + 1e-4);
 }
 
 }  // namespace
