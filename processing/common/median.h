@@ -9,20 +9,17 @@ namespace ts {
 
 // Reorders *values.
 template <class T>
-double MedianInPlace(std::vector<T>* values) {
-  if (values->empty()) return 0.0;
-  const auto middle = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
-  std::nth_element(values->begin(), middle, values->end());
-  return static_cast<double>(*middle);
-}
-
-template <class T>
 double QuantileInPlace(std::vector<T>* values, double q) {
   if (values->empty()) return 0.0;
   const size_t rank = std::min(values->size() - 1, static_cast<size_t>(q * values->size()));
   const auto at = values->begin() + static_cast<std::ptrdiff_t>(rank);
   std::nth_element(values->begin(), at, values->end());
   return static_cast<double>(*at);
+}
+
+template <class T>
+double MedianInPlace(std::vector<T>* values) {
+  return QuantileInPlace(values, 0.5);
 }
 
 template <class T>

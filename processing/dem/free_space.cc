@@ -116,39 +116,6 @@ struct LinesBySquare {
   std::vector<size_t> start;
 };
 
-LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) {
-  struct Keyed {
-    std::array<double, 3> camera;
-    int64_t col, row;
-    double rise;
-    size_t index;
-  };
-  std::vector<Keyed> keyed;
-  keyed.reserve(lines.size());
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const SightLine& l = lines[i];
-    if (!l.point.allFinite() || !l.camera.allFinite()) continue;
-    keyed.push_back({{l.camera.x(), l.camera.y(), l.camera.z()},
-                     static_cast<int64_t>(std::floor(l.point.x() / cell_m)),
-                     static_cast<int64_t>(std::floor(l.point.y() / cell_m)),
-                     Rise(l),
-                     i});
-  }
-  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
-    return std::tie(a.camera, a.col, a.row, a.rise, a.index) <
-           std::tie(b.camera, b.col, b.row, b.rise, b.index);
-  });
-  LinesBySquare groups;
-  for (size_t k = 0; k < keyed.size(); ++k) {
-    const bool same = k > 0 && keyed[k - 1].camera == keyed[k].camera &&
-                      keyed[k - 1].col == keyed[k].col && keyed[k - 1].row == keyed[k].row;
-    if (!same) groups.start.push_back(k);
-    groups.line.push_back(keyed[k].index);
-  }
-  groups.start.push_back(keyed.size());
-  return groups;
-}
-
 // Per line, its camera's and its point's square's key (-1: not a finite line).
 std::vector<int64_t> CameraSquareKeys(const std::vector<SightLine>& lines, double cell_m) {
   std::map<std::array<double, 3>, int64_t> cameras;
@@ -165,6 +132,29 @@ std::vector<int64_t> CameraSquareKeys(const std::vector<SightLine>& lines, doubl
     key[i] = (it->second * kSpan + col) * kSpan + row;
   }
   return key;
+}
+
+LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) {
+  struct Keyed {
+    int64_t key;
+    double rise;
+    size_t index;
+  };
+  const std::vector<int64_t> key = CameraSquareKeys(lines, cell_m);
+  std::vector<Keyed> keyed;
+  keyed.reserve(lines.size());
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (key[i] >= 0) keyed.push_back({key[i], Rise(lines[i]), i});
+  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    return std::tie(a.key, a.rise, a.index) < std::tie(b.key, b.rise, b.index);
+  });
+  LinesBySquare groups;
+  for (size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || keyed[k - 1].key != keyed[k].key) groups.start.push_back(k);
+    groups.line.push_back(keyed[k].index);
+  }
+  groups.start.push_back(keyed.size());
+  return groups;
 }
 
 // Per group, its lowest line (the near ground is matched densely, so this leaves a fraction of
@@ -251,6 +241,7 @@ bool PassesThroughSeenGround(const SightLine& line, const Raster& floor, double 
             });
   return squares >= o.seen_ground_witnesses;
 }
+
 }  // namespace
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,

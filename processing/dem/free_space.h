@@ -36,9 +36,8 @@ struct FreeSpaceOptions {
   double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
   double mismatch_sigmas = 3.0;  // a line this far under the kriged ground (and a cell) is dropped
-  double seen_ground_sigmas =
-      3.0;  // a line this far under seen ground (and a square) went through it
-  int seen_ground_witnesses = 2;  // in at least this many squares
+  double seen_ground_sigmas = 3.0;  // a line this far under seen ground went through it
+  int seen_ground_witnesses = 2;    // in at least this many squares
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("enabled", self.enabled, {"keep the DEM below every line of sight over it", "", 0, 1});

@@ -40,6 +40,26 @@ struct Site {
   }
 };
 
+// A 20 m square whose ground is profile(x): the DEM at the cell centres with kriging's std of
+// 1 cm, and points every 0.25 m where seen(x, y).
+struct ProfileSite {
+  KrigingPoints ground;
+  Raster dem, std;
+};
+template <class Profile, class Seen>
+ProfileSite MakeProfileSite(const Profile& profile, const Seen& seen) {
+  ProfileSite site{{}, Raster::Make(0.0, 20.0, 1.0, 20, 20), Raster::Make(0.0, 20.0, 1.0, 20, 20)};
+  for (int r = 0; r < site.dem.rows; ++r)
+    for (int c = 0; c < site.dem.cols; ++c) {
+      site.dem.at(r, c) = static_cast<float>(profile(site.dem.CellCentreX(c)));
+      site.std.at(r, c) = 0.01f;
+    }
+  for (double y = 0.125; y < 20.0; y += 0.25)
+    for (double x = 0.125; x < 20.0; x += 0.25)
+      if (seen(x, y)) site.ground.positions.emplace_back(x, y, profile(x));
+  return site;
+}
+
 TEST(GroundRoom, UnseenCellsGetTheSeenSlopesTurnOverTheirDistance) {
   Site site;
   const GroundRoomResult result =
@@ -152,16 +172,11 @@ TEST(GroundRoom, GroundHiddenBehindABrowMayLieDownToWhereTheLowestLineLanded) {
 // beyond the data, 0.5 m from them on the quarter-cell grid the distances are measured on:
 // the turn's room 0.4 * 0.5 / 2 is added, or the room down to where a line over it landed.
 TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheRoomOfGroundNobodySaw) {
-  auto kinked = [](double x) { return 0.2 * std::abs(x - 4.0); };
-  KrigingPoints ground;
-  Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), std = dem;
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c) {
-      dem.at(r, c) = static_cast<float>(kinked(dem.CellCentreX(c)));
-      std.at(r, c) = 0.01f;
-    }
-  for (double y = 0.125; y < 20.0; y += 0.25)
-    for (double x = 0.125; x < 7.25; x += 0.25) ground.positions.emplace_back(x, y, kinked(x));
+  ProfileSite site = MakeProfileSite([](double x) { return 0.2 * std::abs(x - 4.0); },
+                                     [](double x, double) { return x < 7.25; });
+  const KrigingPoints& ground = site.ground;
+  const Raster& dem = site.dem;
+  Raster& std = site.std;
   const Raster kriged_std = std;
   WidenStdByGroundRoom(ground, dem, nullptr, {}, &std);
   EXPECT_NEAR(std.at(10, 6), 0.01, 1e-4);
@@ -191,18 +206,12 @@ TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheRoomOfGroundNobodySaw) {
 // over it, or with the lines unknown, the turn's room stays; a carried-on cell without a value
 // adds the steep slope over its step from its nearest cell with one.
 TEST(GroundRoom, GroundNoLinePassedOverMayFallAsSteeplyAsTheSteepGroundSeen) {
-  auto face = [](double x) { return x < 15.0 ? 0.0 : x - 15.0; };
-  KrigingPoints ground;
-  Raster dem = Raster::Make(0.0, 20.0, 1.0, 20, 20), kriged_std = dem;
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 0; c < dem.cols; ++c) {
-      dem.at(r, c) = static_cast<float>(face(dem.CellCentreX(c)));
-      kriged_std.at(r, c) = 0.01f;
-    }
-  for (double y = 0.125; y < 20.0; y += 0.25)
-    for (double x = 0.125; x < 20.0; x += 0.25)
-      if (x < 7.0 || x >= 13.0 || y < 7.0 || y >= 13.0)
-        ground.positions.emplace_back(x, y, face(x));
+  ProfileSite site = MakeProfileSite(
+      [](double x) { return x < 15.0 ? 0.0 : x - 15.0; },
+      [](double x, double y) { return x < 7.0 || x >= 13.0 || y < 7.0 || y >= 13.0; });
+  const KrigingPoints& ground = site.ground;
+  const Raster& dem = site.dem;
+  const Raster kriged_std = site.std;
   SightLineCeilings none;
   none.per_cell = none.landing_per_cell = Raster::Make(0.0, 20.0, 1.0, 20, 20);
   const double d = 2.5;
