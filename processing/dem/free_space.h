@@ -7,14 +7,22 @@
 // A line counts up to end_sigmas standard deviations of its point's range short of the point
 // (and at least a cell): its direction is known to a pixel, its length only to the
 // intersection's range sigma, so a point matched too far would otherwise cut into the ground
-// in front of it. Along each line, every half ceiling_cell_m, the line's height is a ceiling
-// at that place; the lowest ceiling per ceiling_cell_m square is kept (with where it was).
+// in front of it. A line is taken where it crosses the edges of the ceiling_cell_m squares:
+// over a square the DEM's surface is all but straight along it, so there the line is lowest
+// and nearest the surface. Per square two ceilings are kept (with where they were): the
+// lowest line, and the one that passes least above the kriged DEM. Within a square the
+// surface can rise more than the lines do (a steep cell beside a low one: a kriged blunder),
+// and a line that is not the lowest then passes under it where it is high (0.5 m on terraces
+// seed 2, when only the lowest was kept and the lines were taken every half square).
 //
 // The DEM is the bilinear surface of its cell centres. Each ceiling constrains the four cells
 // around it: w'z <= h, w the bilinear weights. Each in turn is met by the least change of z
 // (a projection onto its half-space). That only lowers cells, with weights that are never
-// negative, so it cannot undo a constraint met before: one pass meets them all. Cells the
-// lines do not reach are untouched.
+// negative, so it cannot undo a constraint met before: one pass meets them all. It moves the
+// cells unevenly, so the line that bound a square over the kriged DEM need not bind it over
+// the lowered one: the lines that passed under the kriged DEM are walked again over the
+// lowered one, and the closest under each square met, until none passes under it (a round or
+// two). Cells the lines do not reach are untouched.
 //
 // Per cell, the lowest line over its square is also kept: the highest the ground of a cell
 // can be (products/dem_ceiling.tif; ground_room.h caps the cells without data by it), and the
@@ -33,7 +41,7 @@ namespace ts {
 struct FreeSpaceOptions {
   bool enabled = true;
   double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
-  double ceiling_cell_m = 0.25;  // the lowest line per square this wide is a constraint
+  double ceiling_cell_m = 0.25;  // per square this wide, the lowest line and the nearest bind
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
   double mismatch_sigmas = 3.0;  // a line this far under the kriged ground (and a cell) is dropped
   double seen_ground_sigmas = 3.0;  // a line this far under seen ground went through it
@@ -44,7 +52,8 @@ struct FreeSpaceOptions {
     v("end_sigmas", self.end_sigmas,
       {"a line of sight stops this many range sigmas short of its point", "", 0, 10});
     v("ceiling_cell_m", self.ceiling_cell_m,
-      {"the lowest line of sight per square this wide constrains the DEM", "m", 0.05, 10});
+      {"per square this wide, the lowest line of sight and the one nearest the DEM bind it", "m",
+       0.05, 10});
     v("tolerance_m", self.tolerance_m,
       {"a surface this far above a line of sight is left alone", "m", 0, 10});
     v("mismatch_sigmas", self.mismatch_sigmas,
@@ -92,6 +101,9 @@ struct SightLineCeilings {
   Raster per_cell;                // the lowest line over each DEM cell's square (nodata: none)
   Raster landing_per_cell;        // where that lowest line landed: the first ground seen past
   int mismatched = 0;  // lines that would have counted, dropped as mismatches (kriging_std given)
+  // The lines that passed under the grid they were found over: LowerBelowSightLines walks them
+  // again over the DEM it lowered.
+  std::vector<SightLine> under_grid;
 };
 
 // grid: the kriged DEM, before any line lowered it; with its kriging_std, the far lines that
@@ -122,8 +134,10 @@ struct FreeSpaceResult {
 };
 
 // Lowers `dem` (nodata cells stay) until its bilinear surface is below every ceiling whose
-// four cells have data. A lowered cell's `std` (if given) spans its lowering in quadrature: the
-// points kriged there stood above a line another point proved clear, by at least that much.
+// four cells have data, and below the lines in ceilings.under_grid wherever they cross a
+// square's edge (at most 8 rounds). A lowered cell's `std` (if given) spans its lowering in
+// quadrature: the points kriged there stood above a line another point proved clear, by at least
+// that much.
 FreeSpaceResult LowerBelowSightLines(const SightLineCeilings& ceilings,
                                      const FreeSpaceOptions& options, Raster* dem,
                                      Raster* std = nullptr);
