@@ -128,7 +128,7 @@ struct FineCeilings {
       }
     }
   }
-  // Square i's closest line as a ceiling, if any passed over the DEM's data.
+  // Square (r, c)'s closest line as a ceiling, if any passed over the DEM's data.
   bool Closest(int r, int c, SightLineCeilings::Ceiling* out) const {
     const Square& e = squares[static_cast<size_t>(r) * cols + c];
     if (!std::isfinite(e.clearance)) return false;
