@@ -76,7 +76,9 @@ SimRig MakeSimRig(uint64_t seed, double stage_height_m) {
   rig.inclinometer_index_error_deg.x() = n(0.02);
   rig.inclinometer_index_error_deg.y() = n(0.02);
   ReadInclinometerAtHome(&rig);
-  rig.nominal.stage.height_above_mark_m = stage_height_m + n(0.005);
+  // The tape reaches the tilt axis (its trunnion mark), not L's origin below it: the station
+  // puts the origin the design's tilt-axis height below what was taped.
+  rig.nominal.stage.SetInstrumentHeight(t.stage.InstrumentHeightM() + n(0.005));
   rig.right_sensor.sensitivity = 0.92;
   rig.right_sensor.black_level_fraction = 0.02;
   return rig;

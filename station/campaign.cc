@@ -3,6 +3,7 @@
 #include <ogrsf_frmts.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -19,6 +20,18 @@ namespace fs = std::filesystem;
 
 nlohmann::json Field(const nlohmann::json& object, const char* key) {
   return object.is_object() && object.contains(key) ? object[key] : nlohmann::json();
+}
+
+// The crew's instrument height (the tilt axis above the mark) from the manifest's stage, where
+// L's origin lies the tilt axis's height below it (StageKinematics::InstrumentHeightM).
+nlohmann::json InstrumentHeight(const nlohmann::json& manifest) {
+  const nlohmann::json stage = Field(Field(manifest, "calibration"), "stage");
+  const nlohmann::json origin = Field(stage, "height_above_mark_m");
+  if (!origin.is_number()) return nullptr;
+  const nlohmann::json axis = Field(stage, "tilt_axis_offset_m");
+  const bool has_axis = axis.is_array() && axis.size() == 3 && axis[2].is_number();
+  // A tape reads to the millimetre: to 0.1 mm, the sum prints as the crew entered it.
+  return std::round((origin.get<double>() + (has_axis ? axis[2].get<double>() : 0.0)) * 1e4) / 1e4;
 }
 
 std::string RingColumn(const nlohmann::json& ring) {
@@ -126,8 +139,7 @@ Result<nlohmann::ordered_json> CampaignRow(const std::string& dir) {
   const nlohmann::json pairs = Field(manifest, "pairs");
   row["time_utc"] = pairs.is_array() && !pairs.empty() ? Field(pairs[0], "captured_utc")
                                                        : Field(manifest, "created_utc");
-  row["instrument_height_m"] =
-      manifest["calibration"]["stage"].value("height_above_mark_m", nlohmann::json());
+  row["instrument_height_m"] = InstrumentHeight(manifest);
   row["lat_deg"] = Field(gnss, "lat_deg");
   row["lon_deg"] = Field(gnss, "lon_deg");
   row["height_m"] = Field(gnss, "height_m");

@@ -131,16 +131,18 @@ void PrintEvaluation(const nlohmann::json& j) {
 }
 
 // The pan zero the station was processed with (products/report.json).
-double ProcessedPanZeroDeg(const std::string& station) {
+// One of the station frame's datums in the processed station's report.json (its calibration).
+double ProcessedDatum(const std::string& station, const char* key) {
   const std::string file = station + "/products/report.json";
   std::ifstream in(file);
   const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-  const nlohmann::json* pan_zero = report.is_object() && report.contains("calibration")
-                                       ? &report["calibration"]["pan_zero_deg"]
-                                       : nullptr;
-  if (!pan_zero || !pan_zero->is_number())
-    throw CommandError(file + ": calibration.pan_zero_deg: missing (process the station again)");
-  return pan_zero->get<double>();
+  const nlohmann::json* value =
+      report.is_object() && report.contains("calibration") && report["calibration"].contains(key)
+          ? &report["calibration"][key]
+          : nullptr;
+  if (!value || !value->is_number())
+    throw CommandError(file + ": calibration." + key + ": missing (process the station again)");
+  return value->get<double>();
 }
 
 // The station's own terrain correction and its sigma (products/terrain_correction.json): every
@@ -174,8 +176,14 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   // The station frame's azimuth is the pan encoder's zero of the calibration it was processed
   // with, which no panorama shows and the terrain correction does not depend on: the truth is
   // compared turned into it.
-  const double turn_deg = calibration->stage.pan_zero_deg - ProcessedPanZeroDeg(station);
-  const Raster truth_on_grid = truth->ResampledOnto(dem, turn_deg);
+  const double turn_deg = calibration->stage.pan_zero_deg - ProcessedDatum(station, "pan_zero_deg");
+  // Its origin lies the calibration's tilt-axis height under the tilt axis, which no image
+  // shows either (it lifts every view alike): the two frames agree at the tilt axis, and the
+  // truth is lifted into the processed one. The mark hangs from the tilt axis by the taped
+  // instrument height in both.
+  const double lift_m =
+      ProcessedDatum(station, "tilt_axis_height_m") - calibration->stage.tilt_axis_offset_m.z();
+  const Raster truth_on_grid = truth->ResampledOnto(dem, turn_deg, lift_m);
   const DemEvaluation e = EvaluateDem(dem, truth_on_grid, station_xy, std_dev);
   if (e.cells_compared == 0)
     throw CommandError(station + "/products/dem.tif: no cell overlaps the truth DEM " + truth_dir +
@@ -183,9 +191,10 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   nlohmann::json j = e.ToJson();
   j["truth"] = truth_dir;
   j["azimuth_datum_deg"] = turn_deg;
+  j["height_datum_m"] = lift_m;
   // The terrain correction from this DEM against the one from the true bare earth on the
   // same grid, both at the true mark.
-  const Eigen::Vector3d mark = calibration->stage.StationMarkInL();
+  const Eigen::Vector3d mark = calibration->stage.StationMarkInL() + Eigen::Vector3d(0, 0, lift_m);
   const TerrainCorrectionOptions tc_options;
   const auto [ours, sigma] = StationTerrainCorrection(station);
   const TerrainCorrection truth_tc =

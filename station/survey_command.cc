@@ -123,7 +123,7 @@ void RunRigSurvey(const SurveyArgs& args) {
   Result<RigConfig> rig = LoadRigConfig(args.rig_file);
   if (!rig) throw CommandError(rig.error());
   if (args.instrument_height_m > 0.0)
-    rig->calibration.stage.height_above_mark_m = args.instrument_height_m;
+    rig->calibration.stage.SetInstrumentHeight(args.instrument_height_m);
   ProcessOptions process;
   process.self_calibrate_rig = !args.no_self_calibration;
   CaptureOptions capture;
@@ -252,8 +252,8 @@ void AddSurveyCommand(CLI::App& app) {
   s->add_flag("--sim", args->sim, "survey the simulated station");
   s->add_option("--rig", args->rig_file, "survey with a real rig (its config, YAML)");
   s->add_option("--instrument-height-m", args->instrument_height_m,
-                "the stage centre's height above the mark, measured now (--rig; default: "
-                "the rig file's)")
+                "the tilt axis's height above the mark, taped now to its trunnion mark (--rig; "
+                "default: the rig file's)")
       ->check(CLI::Range(0.05, 10.0));
   AddSimStationOptions(s, &args->station);
   s->add_option("--out", args->out, "station directory to create")->required();

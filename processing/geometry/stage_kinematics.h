@@ -33,7 +33,8 @@ struct StageKinematics {
   // it as omega-phi-kappa (deg, see rotation.h).
   Eigen::Vector3d rig_offset_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rig_rotation_opk_deg = Eigen::Vector3d::Zero();
-  // Height of the stage centre above the station mark (m), measured in the field.
+  // Height of L's origin above the station mark (m). A crew tapes to the tilt axis (its
+  // trunnion mark on the stage, as a theodolite's instrument height): SetInstrumentHeight.
   double height_above_mark_m = 0.0;
 
   bool Check(std::string* why) const;
@@ -41,6 +42,13 @@ struct StageKinematics {
   // Pose of S in L for encoder readings in degrees.
   Eigen::Isometry3d LFromS(double pan_deg, double tilt_deg) const;
   Eigen::Vector3d StationMarkInL() const { return {0.0, 0.0, -height_above_mark_m}; }
+  // The instrument height: the tilt axis above the mark. L's origin lies tilt_axis_offset_m.z()
+  // below the tilt axis, a height no image shows (it lifts every view alike), so only the taped
+  // instrument height places the mark; the two heights move together.
+  double InstrumentHeightM() const { return height_above_mark_m + tilt_axis_offset_m.z(); }
+  void SetInstrumentHeight(double instrument_height_m) {
+    height_above_mark_m = instrument_height_m - tilt_axis_offset_m.z();
+  }
 };
 
 // The calibration parameters as one vector (everything but the height above the mark), for

@@ -24,7 +24,8 @@
 //     covariance: [16 numbers]           # of baseline_m, omega phi kappa (deg)
 //     rms_px: 0.25                       # over both images
 //   stage:                               # optional; every field defaults to the ideal stage
-//     height_above_mark_m: 1.5
+//     height_above_mark_m: 1.5           # L's origin: the instrument height taped to the tilt
+//                                        #   axis, less tilt_axis_offset_m's z
 //     levelling_deg: [0, 0]
 //     pan_zero_deg: 0
 //     tilt_zero_deg: 0

@@ -83,7 +83,7 @@ double Raster::InterpolateCubic(double x_m, double y_m) const {
   return sum;
 }
 
-Raster Raster::ResampledOnto(const Raster& grid, double turn_deg) const {
+Raster Raster::ResampledOnto(const Raster& grid, double turn_deg, double lift_m) const {
   Raster out = grid;
   // A grid point at azimuth a is this raster's point at azimuth a - turn: turned clockwise by
   // -turn.
@@ -92,7 +92,7 @@ Raster Raster::ResampledOnto(const Raster& grid, double turn_deg) const {
     for (int c = 0; c < grid.cols; ++c) {
       const double x = grid.CellCentreX(c), y = grid.CellCentreY(r);
       const double v = Interpolate(x * cos_t + y * sin_t, -x * sin_t + y * cos_t);
-      out.at(r, c) = std::isfinite(v) ? static_cast<float>(v) : kNoData;
+      out.at(r, c) = std::isfinite(v) ? static_cast<float>(v + lift_m) : kNoData;
     }
   return out;
 }

@@ -44,7 +44,9 @@ struct Raster {
   // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).
   // turn_deg: the grid's azimuths (clockwise from +Y, about the origin) stand this far from
   // this raster's, as a station frame's do from another's when their pan zeros differ.
-  Raster ResampledOnto(const Raster& grid, double turn_deg = 0.0) const;
+  // lift_m: the grid's heights stand this far above this raster's, as a station frame's do
+  // when its origin lies another height under the tilt axis.
+  Raster ResampledOnto(const Raster& grid, double turn_deg = 0.0, double lift_m = 0.0) const;
 };
 
 // Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a

@@ -46,10 +46,12 @@ nlohmann::json BuildProcessReport(const ProcessOptions& o, const StationWork& w,
   nlohmann::json report;
   report["station"] = in.manifest.station_id;
   report["software"] = {{"name", "topostation"}, {"version", SoftwareVersion()}};
-  // The pan zero is the station frame's azimuth datum, which no panorama shows.
+  // The station frame's datums, which no panorama shows: the pan zero its azimuth, the tilt
+  // axis's height over L's origin the height of that origin under the taped tilt axis.
   report["calibration"] = {{"source", in.calibration_source},
                            {"sha256", in.calibration_sha256},
-                           {"pan_zero_deg", in.calibration.stage.pan_zero_deg}};
+                           {"pan_zero_deg", in.calibration.stage.pan_zero_deg},
+                           {"tilt_axis_height_m", in.calibration.stage.tilt_axis_offset_m.z()}};
   if (!w.rig_check.is_null()) report["rig"] = w.rig_check;
   report["frame"] = in.georeference ? "projected CRS (GCPs)" : "station frame L";
   report["station_mark"] = {w.mark_dem.x(), w.mark_dem.y(), w.mark_dem.z()};

@@ -24,9 +24,12 @@ void WriteJson(const std::string& file, const nlohmann::json& j) {
 // A station as the pipeline leaves it: manifest, crew fields, report, terrain correction.
 void MakeStation(const std::string& dir, const std::string& id, double tc, bool processed,
                  const nlohmann::json& gnss) {
+  // The instrument height 1.52 m: L's origin 0.12 m under the taped tilt axis.
+  const nlohmann::json stage = {{"height_above_mark_m", 1.40},
+                                {"tilt_axis_offset_m", {0.0, 0.02, 0.12}}};
   WriteJson(dir + "/station.json", {{"station_id", id},
                                     {"created_utc", "2026-11-25T08:00:00.000Z"},
-                                    {"calibration", {{"stage", {{"height_above_mark_m", 1.52}}}}},
+                                    {"calibration", {{"stage", stage}}},
                                     {"pairs", {{{"captured_utc", "2026-11-25T08:01:00.000Z"}}}}});
   nlohmann::json fields = {{"line", "L7"}, {"operator", "a, b"}};
   if (!gnss.is_null()) fields["gnss"] = gnss;

@@ -4,9 +4,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "processing/io/calibration_yaml.h"
 #include "processing/io/point_cloud_file.h"
 #include "processing/io/raster.h"
 #include "tests/common/isprs_sample.h"
+#include "tests/common/paper_rig.h"
 #include "tests/common/station_fixture.h"
 #include "tests/common/temp_dir.h"
 
@@ -62,6 +64,42 @@ TEST(EvaluateCommand, NeedsProductsAndTruth) {
       RunCommand(Exe() + " evaluate " + (dir / "S") + " --truth " + (dir / "T") + " 2>&1");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("products/dem.tif"), std::string::npos) << r.out;
+}
+
+// A station processed on a calibration that puts L's origin 12 mm lower under the tilt axis
+// than the truth's does (the height no image shows) sees the true ground 12 mm higher: no error
+// of its own. The same DEM against a truth of its own datum is 12 mm off.
+TEST(EvaluateCommand, TheTruthIsLiftedIntoTheProcessedFramesHeightDatum) {
+  testing::TempDir dir;
+  const std::string s = dir / "S", t = dir / "T";
+  std::filesystem::create_directories(s + "/products");
+  std::filesystem::create_directories(t);
+  Raster truth = Raster::Make(-30.0, 30.0, 1.0, 60, 60);
+  for (int r = 0; r < 60; ++r)
+    for (int c = 0; c < 60; ++c)
+      truth.at(r, c) = static_cast<float>(-1.5 + 0.05 * truth.CellCentreX(c));
+  ASSERT_TRUE(WriteGeoTiff(truth, t + "/dem.tif"));
+  Calibration cal = testing::PaperCalibration();
+  cal.stage.tilt_axis_offset_m = {0.0, 0.02, 0.120};
+  ASSERT_TRUE(SaveCalibrationYaml(cal, t + "/calibration.yaml"));
+  Raster dem = truth;
+  for (float& v : dem.values) v += 0.012f;
+  ASSERT_TRUE(WriteGeoTiff(dem, s + "/products/dem.tif"));
+  std::ofstream(s + "/products/terrain_correction.json")
+      << R"({"terrain_correction_mgal": 0.01, "sigma_mgal": 0.001})";
+  auto evaluate = [&](double tilt_axis_height_m) {
+    std::ofstream(s + "/products/report.json") << nlohmann::json{
+        {"calibration", {{"pan_zero_deg", 0.0}, {"tilt_axis_height_m", tilt_axis_height_m}}},
+        {"station_mark", {0.0, 0.0, -1.5}}}.dump();
+    const auto r = RunCommand(Exe() + " evaluate " + s + " --truth " + t + " 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream written(s + "/products/evaluation.json");
+    return nlohmann::json::parse(written);
+  };
+  const nlohmann::json lifted = evaluate(0.132);
+  EXPECT_NEAR(lifted["height_datum_m"].get<double>(), 0.012, 1e-12);
+  EXPECT_LT(lifted["dem_rmse_m"].get<double>(), 1e-6);
+  EXPECT_NEAR(evaluate(0.120)["dem_rmse_m"].get<double>(), 0.012, 1e-6);
 }
 
 TEST(GroundFilterCommand, WritesTheGroundPointsUnchanged) {

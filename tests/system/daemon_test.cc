@@ -143,7 +143,12 @@ TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) 
   const nlohmann::json station = d->GetJson("/stations/S1");
   ASSERT_TRUE(station.is_object());
   EXPECT_EQ(station["fields"]["line"], "L7");
-  EXPECT_EQ(station["manifest"]["calibration"]["stage"]["height_above_mark_m"], 1.52);
+  // The crew's instrument height reaches the tilt axis; L's origin lies its height below.
+  const nlohmann::json& stage = station["manifest"]["calibration"]["stage"];
+  EXPECT_NEAR(
+      stage["height_above_mark_m"].get<double>() + stage["tilt_axis_offset_m"][2].get<double>(),
+      1.52, 1e-12);
+  EXPECT_LT(stage["height_above_mark_m"].get<double>(), 1.45);
   EXPECT_TRUE(station["terrain_correction"].is_object());
   const std::set<std::string> names = station["products"];
   for (const char* expected : {"dem.tif", "dem_std.tif", "points.ply", "panorama.png",
@@ -694,7 +699,7 @@ TEST_F(DaemonTest, TheSameSurveyRunsFromTheCommandLineWithoutTheDaemon) {
   EXPECT_EQ(j["report"]["verdict"], "usable") << out.out;
   const Result<StationManifest> m = ValidateStation(station, {.require_complete = true});
   ASSERT_TRUE(m.ok()) << m.error();
-  EXPECT_EQ(m->calibration.stage.height_above_mark_m, 1.45);
+  EXPECT_NEAR(m->calibration.stage.InstrumentHeightM(), 1.45, 1e-12);
   EXPECT_TRUE(std::filesystem::exists(station + "/products/terrain_correction.json"));
   // Neither or both of --sim and --rig: one clear line.
   const testing::CommandOutput neither = testing::RunCommand(

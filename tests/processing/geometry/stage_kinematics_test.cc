@@ -113,6 +113,28 @@ TEST(StageKinematics, StationMarkIsBelowTheStageCentre) {
   EXPECT_TRUE(s.StationMarkInL().isApprox(Eigen::Vector3d(0, 0, -1.42)));
 }
 
+// The crew tapes the tilt axis above the mark. L's origin lies the tilt axis's height under
+// it, so two descriptions of one stage that put the origin at different heights under the same
+// tilt axis hang the mark at the same place below it.
+TEST(StageKinematics, TheInstrumentHeightHangsTheMarkFromTheTiltAxis) {
+  StageKinematics s;
+  s.levelling_x_deg = 0.2;
+  s.tilt_axis_offset_m = {0.0, 0.02, 0.12};
+  s.rig_offset_m = {0.0, 0.0, 0.1};
+  s.SetInstrumentHeight(1.62);
+  EXPECT_NEAR(s.height_above_mark_m, 1.50, 1e-12);
+  EXPECT_NEAR(s.InstrumentHeightM(), 1.62, 1e-12);
+  StageKinematics lower = s;  // the same stage, its origin 4 mm lower
+  lower.tilt_axis_offset_m.z() += 0.004;
+  lower.SetInstrumentHeight(1.62);
+  for (double pan : {0.0, 90.0, 200.0})
+    for (double tilt : {-10.0, 15.0}) {
+      const Eigen::Vector3d camera = s.LFromS(pan, tilt).translation();
+      const Eigen::Vector3d same = lower.LFromS(pan, tilt).translation();
+      EXPECT_NEAR((camera - s.StationMarkInL()).z(), (same - lower.StationMarkInL()).z(), 1e-5);
+    }
+}
+
 TEST(StageKinematics, CheckRejectsNonsense) {
   std::string why;
   StageKinematics s;

@@ -52,6 +52,16 @@ TEST(Raster, ResampledOntoAGridTurnedByAPanZeroSeesTheGroundTurned) {
     }
 }
 
+// A frame whose origin lies lower under the tilt axis sees every height higher by as much.
+TEST(Raster, ResampledOntoAGridLiftedSeesTheGroundHigherByTheLift) {
+  const Raster north = Plane([](double, double y) { return 0.1 * y - 1.5; });
+  const Raster grid = Plane([](double, double) { return 0.0; });
+  const Raster lifted = north.ResampledOnto(grid, 90.0, 0.0125);
+  for (int row = 1; row + 1 < grid.rows; ++row)
+    for (int col = 1; col + 1 < grid.cols; ++col)
+      EXPECT_NEAR(lifted.at(row, col), 0.1 * grid.CellCentreX(col) - 1.5 + 0.0125, 1e-5);
+}
+
 // Catmull-Rom reproduces a quadratic exactly, where bilinear interpolation cuts its chords
 // (midway between two centres by an eighth of the second derivative times the cell squared);
 // with a cell of no data among the sixteen it falls back to bilinear.
