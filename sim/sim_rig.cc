@@ -78,7 +78,8 @@ SimRig MakeSimRig(uint64_t seed, double stage_height_m) {
   ReadInclinometerAtHome(&rig);
   // The tape reaches the tilt axis (its trunnion mark), not L's origin below it: the station
   // puts the origin the design's tilt-axis height below what was taped.
-  rig.nominal.stage.SetInstrumentHeight(t.stage.InstrumentHeightM() + n(0.005));
+  // (A simulated stage stands 0.3 m or more above its mark, far above its tilt axis's 0.12 m.)
+  static_cast<void>(rig.nominal.stage.SetInstrumentHeight(t.stage.InstrumentHeightM() + n(0.005)));
   rig.right_sensor.sensitivity = 0.92;
   rig.right_sensor.black_level_fraction = 0.02;
   return rig;

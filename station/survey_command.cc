@@ -123,7 +123,9 @@ void RunRigSurvey(const SurveyArgs& args) {
   Result<RigConfig> rig = LoadRigConfig(args.rig_file);
   if (!rig) throw CommandError(rig.error());
   if (args.instrument_height_m > 0.0)
-    rig->calibration.stage.SetInstrumentHeight(args.instrument_height_m);
+    if (Status s = rig->calibration.stage.SetInstrumentHeight(args.instrument_height_m); !s)
+      throw CommandError("survey: --instrument-height-m: " + s.error() + " (" + args.rig_file +
+                         ")");
   ProcessOptions process;
   process.self_calibrate_rig = !args.no_self_calibration;
   CaptureOptions capture;

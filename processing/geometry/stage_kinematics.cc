@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/options.h"
+
 #include "processing/geometry/rotation.h"
 
 namespace ts {
@@ -32,6 +34,15 @@ bool StageKinematics::Check(std::string* why) const {
   if (err.empty()) return true;
   if (why) *why = err;
   return false;
+}
+
+Status StageKinematics::SetInstrumentHeight(double instrument_height_m) {
+  if (!(instrument_height_m >= tilt_axis_offset_m.z()))
+    return Error{"instrument height " + OptionNumberText(instrument_height_m) +
+                 " m: below the stage's own height of its tilt axis over its origin (" +
+                 OptionNumberText(tilt_axis_offset_m.z()) + " m)"};
+  height_above_mark_m = instrument_height_m - tilt_axis_offset_m.z();
+  return {};
 }
 
 Eigen::Isometry3d StageKinematics::LFromS(double pan_deg, double tilt_deg) const {

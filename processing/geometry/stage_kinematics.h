@@ -14,6 +14,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/result.h"
 #include "processing/geometry/rotation.h"
 
 namespace ts {
@@ -46,9 +47,9 @@ struct StageKinematics {
   // below the tilt axis, a height no image shows (it lifts every view alike), so only the taped
   // instrument height places the mark; the two heights move together.
   double InstrumentHeightM() const { return height_above_mark_m + tilt_axis_offset_m.z(); }
-  void SetInstrumentHeight(double instrument_height_m) {
-    height_above_mark_m = instrument_height_m - tilt_axis_offset_m.z();
-  }
+  // Refused (naming both heights) where the tilt axis would stand lower above the mark than
+  // above L's origin: the mark would be above the stage.
+  Status SetInstrumentHeight(double instrument_height_m);
 };
 
 // The calibration parameters as one vector (everything but the height above the mark), for

@@ -297,7 +297,12 @@ void JobRunner::RunRigJob(Running* run) {
   auto body = [&]() -> void {
     Result<RigConfig> rig = LoadRigConfig(config_.rig_file);  // a new calibration applies now
     if (!rig) return fail(rig.error());
-    rig->calibration.stage.SetInstrumentHeight(job.parameters.value("instrument_height_m", 0.0));
+    // A calibration session tapes no height (0): the stage's origin stands for its mark.
+    const double taped = job.parameters.value("instrument_height_m", 0.0);
+    rig->calibration.stage.height_above_mark_m = 0.0;
+    if (taped > 0.0)
+      if (Status s = rig->calibration.stage.SetInstrumentHeight(taped); !s)
+        return fail("instrument_height_m: " + s.error());
     const bool resume = fs::exists(fs::path(dir) / kManifestFileName);
     if (job.kind == JobKind::kRetake) {
       if (!resume) return fail("station " + job.station + " has no capture to retake from");

@@ -176,6 +176,17 @@ TEST(SurveySim, RefusesAnExistingStationAndAMissingRig) {
                  " 2>&1");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("no-rig.yaml"), std::string::npos) << r.out;
+  // A taped instrument height below the rig's own tilt axis over its origin (0.12 m) is no
+  // tripod: refused before any device is asked for.
+  r = RunCommand(Exe() + " survey --rig " TS_SOURCE_DIR "/config/sim-rig.yaml --out " +
+                 (dir / "T") + " --instrument-height-m 0.1 2>&1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("--instrument-height-m: instrument height 0.1 m: below the stage's own "
+                       "height of its tilt axis over its origin (0.12 m) (" TS_SOURCE_DIR
+                       "/config/sim-rig.yaml)"),
+            std::string::npos)
+      << r.out;
   r = RunCommand(Exe() + " survey --sim --calibration " + (dir / "no-cal.yaml") + " --out " +
                  (dir / "T") + " 2>&1");
   EXPECT_EQ(r.exit_code, 1);

@@ -204,6 +204,16 @@ TEST_F(DaemonTest, AWholeSurveyThroughTheApiGivesProductsEqualToTheFilesOnDisk) 
   const nlohmann::json refused = d->WaitForJob(nlohmann::json::parse(refine->body)["id"], Finished);
   EXPECT_EQ(refused["state"], "failed") << refused.dump();
   EXPECT_NE(refused.dump().find("cameras.left: no precision"), std::string::npos) << refused.dump();
+  // A taped height below the stage's own tilt axis over its origin: failed before any capture,
+  // the field named.
+  auto low =
+      d->Post("/jobs", {{"kind", "survey"}, {"station", "S2"}, {"instrument_height_m", 0.1}});
+  ASSERT_EQ(low->status, 201) << low->body;
+  const nlohmann::json too_low = d->WaitForJob(nlohmann::json::parse(low->body)["id"], Finished);
+  EXPECT_EQ(too_low["state"], "failed") << too_low.dump();
+  EXPECT_NE(too_low.dump().find("instrument_height_m: instrument height 0.1 m: below"),
+            std::string::npos)
+      << too_low.dump();
   // A preview now comes from the camera itself.
   auto jpeg = d->Client().Get("/api/v1/cameras/left/snapshot.jpg");
   ASSERT_TRUE(jpeg);
