@@ -27,6 +27,7 @@ constexpr int kMaxWeightRounds = 6;
 constexpr double kRejectionK = 4.0;
 
 bool IsOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
+bool IsRigMount(int i) { return i >= 11 && i <= 13; }  // the rig's omega, phi, kappa
 
 // The adjustment's parameters as one list: the shared stage's (kStageParameterCount; its
 // levelling is not used, each station has its own), then each station's levelling.
@@ -247,8 +248,10 @@ ceres::CostFunction* ParameterObservation(const ParameterCost& cost, int size) {
 
 std::vector<double> PriorSigmas(const RigAdjustmentOptions& o, int stations) {
   std::vector<double> s(kStageParameterCount + 2 * stations, o.prior_angle_sigma_deg);
-  for (int i = 0; i < kStageParameterCount; ++i)
+  for (int i = 0; i < kStageParameterCount; ++i) {
     if (IsOffset(i)) s[i] = o.prior_offset_sigma_m;
+    if (IsRigMount(i)) s[i] = o.prior_mount_sigma_deg;
+  }
   return s;
 }
 

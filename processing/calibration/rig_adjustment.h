@@ -48,9 +48,14 @@ struct RigAdjustmentOptions {
   double encoder_sigma_deg = 0.002;       // the stage's read-back angles
   double inclinometer_sigma_deg = 0.02;   // one reading: its index error
   double inclinometer_noise_deg = 0.002;  // a reading's noise (inclinometer.h)
-  double prior_angle_sigma_deg = 1.0;     // levelling, tilt zero, skew, rig rotation
-  double prior_offset_sigma_m = 0.02;     // tilt-axis and rig offsets
-  bool refine_cameras = false;            // rig_cameras.h
+  double prior_angle_sigma_deg = 1.0;     // levelling, tilt zero, skew
+  // The rig's rotation on its tilt plate. A transport resets the encoder zeros and the
+  // levelling; the rig stays bolted to its plate. So where one tilt cannot tell tilt zero from
+  // the rig's omega, nor the skew from its kappa, the mount is what the data leave at its prior,
+  // on every station alike: with equal priors the held one is whichever rounding favours.
+  double prior_mount_sigma_deg = 0.1;
+  double prior_offset_sigma_m = 0.02;  // tilt-axis and rig offsets
+  bool refine_cameras = false;         // rig_cameras.h
   template <class Self, class V>
   static void Declare(Self& self, V& v) {
     v("pixel_sigma_px", self.pixel_sigma_px, {"a tie point's image sigma", "px", 1e-3, 10});
@@ -62,6 +67,8 @@ struct RigAdjustmentOptions {
        1});
     v("prior_angle_sigma_deg", self.prior_angle_sigma_deg,
       {"prior sigma of the stage's small angles", "deg", 1e-4, 10});
+    v("prior_mount_sigma_deg", self.prior_mount_sigma_deg,
+      {"prior sigma of the rig's rotation on its tilt plate", "deg", 1e-4, 10});
     v("prior_offset_sigma_m", self.prior_offset_sigma_m,
       {"prior sigma of the stage's offsets", "m", 1e-5, 1});
     v("refine_cameras", self.refine_cameras,
