@@ -130,19 +130,28 @@ void PrintEvaluation(const nlohmann::json& j) {
       j["terrain_correction_error_mgal"].get<double>());
 }
 
-// The pan zero the station was processed with (products/report.json).
-// One of the station frame's datums in the processed station's report.json (its calibration).
-double ProcessedDatum(const std::string& station, const char* key) {
+// The station frame's datums, which no image shows, as the station was processed
+// (products/report.json's calibration): the pan zero (its azimuth) and the tilt axis's height
+// (its origin lies that far under the tilt axis).
+struct ProcessedDatums {
+  double pan_zero_deg = 0.0;
+  double tilt_axis_height_m = 0.0;
+};
+
+ProcessedDatums ReadProcessedDatums(const std::string& station) {
   const std::string file = station + "/products/report.json";
   std::ifstream in(file);
   const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-  const nlohmann::json* value =
-      report.is_object() && report.contains("calibration") && report["calibration"].contains(key)
-          ? &report["calibration"][key]
-          : nullptr;
-  if (!value || !value->is_number())
-    throw CommandError(file + ": calibration." + key + ": missing (process the station again)");
-  return value->get<double>();
+  const auto datum = [&](const char* key) {
+    const nlohmann::json* value =
+        report.is_object() && report.contains("calibration") && report["calibration"].contains(key)
+            ? &report["calibration"][key]
+            : nullptr;
+    if (!value || !value->is_number())
+      throw CommandError(file + ": calibration." + key + ": missing (process the station again)");
+    return value->get<double>();
+  };
+  return {datum("pan_zero_deg"), datum("tilt_axis_height_m")};
 }
 
 // The station's own terrain correction and its sigma (products/terrain_correction.json): every
@@ -176,13 +185,13 @@ nlohmann::json EvaluateOrThrow(const std::string& station, const std::string& tr
   // The station frame's azimuth is the pan encoder's zero of the calibration it was processed
   // with, which no panorama shows and the terrain correction does not depend on: the truth is
   // compared turned into it.
-  const double turn_deg = calibration->stage.pan_zero_deg - ProcessedDatum(station, "pan_zero_deg");
+  const ProcessedDatums processed = ReadProcessedDatums(station);
+  const double turn_deg = calibration->stage.pan_zero_deg - processed.pan_zero_deg;
   // Its origin lies the calibration's tilt-axis height under the tilt axis, which no image
   // shows either (it lifts every view alike): the two frames agree at the tilt axis, and the
   // truth is lifted into the processed one. The mark hangs from the tilt axis by the taped
   // instrument height in both.
-  const double lift_m =
-      ProcessedDatum(station, "tilt_axis_height_m") - calibration->stage.tilt_axis_offset_m.z();
+  const double lift_m = processed.tilt_axis_height_m - calibration->stage.tilt_axis_offset_m.z();
   const Raster truth_on_grid = truth->ResampledOnto(dem, turn_deg, lift_m);
   const DemEvaluation e = EvaluateDem(dem, truth_on_grid, station_xy, std_dev);
   if (e.cells_compared == 0)
