@@ -123,11 +123,12 @@ TEST(StageKinematics, TheInstrumentHeightHangsTheMarkFromTheTiltAxis) {
   s.rig_offset_m = {0.0, 0.0, 0.1};
   ASSERT_TRUE(s.SetInstrumentHeight(1.62));
   EXPECT_NEAR(s.height_above_mark_m, 1.50, 1e-12);
-  // A tape shorter than the tilt axis stands over the origin puts the mark above the stage.
+  EXPECT_NEAR(s.InstrumentHeightM(), 1.62, 1e-12);
+  // A tape shorter than the tilt axis stands above the origin would put the mark above the
+  // stage: refused.
   const Status low = StageKinematics(s).SetInstrumentHeight(0.11);
   ASSERT_FALSE(low);
   EXPECT_NE(low.error().find("0.11 m: below"), std::string::npos) << low.error();
-  EXPECT_NEAR(s.InstrumentHeightM(), 1.62, 1e-12);
   StageKinematics lower = s;  // the same stage, its origin 4 mm lower
   lower.tilt_axis_offset_m.z() += 0.004;
   ASSERT_TRUE(lower.SetInstrumentHeight(1.62));
