@@ -489,7 +489,7 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
     const KrigingPoints& points, const std::vector<VariogramModel>& models,
     const KrigingOptions& o) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<CrossValidationScore> none(models.size(), {kNaN, kNaN});
+  const std::vector<CrossValidationScore> none(models.size(), {kNaN, kNaN, {}});
   // The held-out blocks: a seeded random choice of the squares with points.
   const GridIndex blocks(points.positions, o.cross_validation_block_m);
   std::vector<std::pair<int, int>> occupied;
@@ -554,6 +554,7 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
           }
         }
       });
+  std::vector<CrossValidationScore> scores(kinds);
   std::vector<double> sum2(kinds, 0.0), sum_score(kinds, 0.0);
   int predicted = 0;
   for (size_t k = 0; k < predicted_points.size(); ++k) {
@@ -563,15 +564,32 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
       // Floored: a point without noise predicted exactly has no score.
       const double v = std::max(variance[k * kinds + m], 1e-12);
       sum2[m] += e2[m];
-      sum_score[m] += e2[m] / v + std::log(v);
+      scores[m].point_scores.push_back(e2[m] / v + std::log(v));
+      sum_score[m] += scores[m].point_scores.back();
     }
     ++predicted;
   }
   if (predicted == 0) return none;
-  std::vector<CrossValidationScore> scores(kinds);
-  for (size_t m = 0; m < kinds; ++m)
-    scores[m] = {std::sqrt(sum2[m] / predicted), sum_score[m] / predicted};
+  for (size_t m = 0; m < kinds; ++m) {
+    scores[m].rms_m = std::sqrt(sum2[m] / predicted);
+    scores[m].log_score = sum_score[m] / predicted;
+  }
   return scores;
+}
+
+size_t ChooseKind(const std::vector<CrossValidationScore>& scores, size_t fallback) {
+  size_t best = fallback;
+  for (size_t k = 0; k < scores.size(); ++k)
+    if (std::isfinite(scores[k].log_score) && !(scores[k].log_score >= scores[best].log_score))
+      best = k;
+  const std::vector<double>& a = scores[best].point_scores;
+  const std::vector<double>& b = scores[fallback].point_scores;
+  if (best == fallback || a.size() != b.size() || a.size() < 2) return best;
+  double sum = 0.0, sum2 = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) sum += a[i] - b[i], sum2 += (a[i] - b[i]) * (a[i] - b[i]);
+  const double n = static_cast<double>(a.size()), mean = sum / n;
+  const double standard_error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
+  return mean < -2.0 * standard_error ? best : fallback;
 }
 
 KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const KrigingOptions& o) {
@@ -593,12 +611,13 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid, const Kr
   result.model = BestFit(fits);
   if (o.cross_validation_blocks > 0) {
     const std::vector<CrossValidationScore> scores = BlockCrossValidationScores(thinned, fits, o);
-    double best = std::numeric_limits<double>::infinity();
+    size_t fallback = 0;
     for (size_t k = 0; k < fits.size(); ++k) {
       if (!std::isfinite(scores[k].log_score)) continue;  // too few points to hold any out
       result.cross_validation.push_back({fits[k], scores[k].rms_m, scores[k].log_score});
-      if (scores[k].log_score < best) best = scores[k].log_score, result.model = fits[k];
+      if (fits[k].kind == result.model.kind) fallback = k;
     }
+    if (!result.cross_validation.empty()) result.model = fits[ChooseKind(scores, fallback)];
   }
   result.dem = grid;
   std::vector<double> noise_variance;

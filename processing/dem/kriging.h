@@ -142,12 +142,19 @@ KrigingResult KrigeDem(const KrigingPoints& points, const Raster& grid,
 // cross_validation_block_m wide) from the points outside them: how well it bridges gaps of that
 // size. The same points for every model; NaN when fewer than four blocks have points.
 struct CrossValidationScore {
-  double rms_m = 0.0;      // RMS error
-  double log_score = 0.0;  // mean of e^2 / v + ln v (v in m^2): lower is better
+  double rms_m = 0.0;                // RMS error
+  double log_score = 0.0;            // mean of e^2 / v + ln v (v in m^2): lower is better
+  std::vector<double> point_scores;  // e^2 / v + ln v of each predicted point, alike for all
 };
 std::vector<CrossValidationScore> BlockCrossValidationScores(
     const KrigingPoints& points, const std::vector<VariogramModel>& models,
     const KrigingOptions& options);
+
+// The kind to krige with: the best fit to the variogram's bins (`fallback`), unless another
+// kind's held-out log score is lower by more than twice the standard error of the paired
+// difference over the predicted points. The scores of a few hundred points are noisy; a kind
+// chosen on noise flips between two surveys of one site.
+size_t ChooseKind(const std::vector<CrossValidationScore>& scores, size_t fallback);
 
 // One variogram serves the whole square, and its sill is set by the square's roughest ground:
 // a road's batters, a riser, a gully. Over the smooth fields beside them kriging's std was two
