@@ -115,11 +115,12 @@ nlohmann::json FinishOrThrow(StationProcessor* processor) {
 
 void PrintEvaluation(const nlohmann::json& j) {
   std::printf(
-      "DEM against truth: RMSE %.3f m, bias %+.3f m, p95 |error| %.3f m; coverage %.1f %% "
-      "within 30 m, %.1f %% of the 60 m square\n",
-      j["dem_rmse_m"].get<double>(), j["dem_bias_m"].get<double>(),
-      j["dem_p95_abs_m"].get<double>(), 100 * j["coverage_30m"].get<double>(),
-      100 * j["coverage_60m_square"].get<double>());
+      "DEM against truth: RMSE %.3f m (%.3f m within 30 m), bias %+.3f m, p95 |error| %.3f m; "
+      "coverage %.1f %% within 30 m, %.1f %% of the 60 m square\n",
+      j["dem_rmse_m"].get<double>(),
+      j["dem_rmse_30m_m"].is_number() ? j["dem_rmse_30m_m"].get<double>() : NAN,
+      j["dem_bias_m"].get<double>(), j["dem_p95_abs_m"].get<double>(),
+      100 * j["coverage_30m"].get<double>(), 100 * j["coverage_60m_square"].get<double>());
   if (j["std_ratio_rms"].is_number())
     std::printf("DEM std against its true errors: RMS error/std %.2f, %.1f %% within 2 std\n",
                 j["std_ratio_rms"].get<double>(), 100 * j["within_2std"].get<double>());

@@ -6,6 +6,10 @@
 
 namespace ts {
 
+namespace {
+constexpr double kNearRegionM = 30.0;  // the near region the terrain correction needs
+}  // namespace
+
 double DemCoverage(const Raster& dem, const Eigen::Vector2d& station_xy, double radius_m) {
   int total = 0, with_data = 0;
   for (int r = 0; r < dem.rows; ++r)
@@ -22,8 +26,8 @@ DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
                           const Eigen::Vector2d& station_xy, const Raster* std_dev) {
   DemEvaluation e;
   std::vector<double> abs_errors;
-  double sum = 0.0, sum2 = 0.0, ratio2 = 0.0;
-  int with_std = 0, within = 0;
+  double sum = 0.0, sum2 = 0.0, ratio2 = 0.0, near_sum2 = 0.0;
+  int with_std = 0, within = 0, near = 0;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c) {
       if (Raster::IsNoData(dem.at(r, c))) continue;
@@ -31,6 +35,9 @@ DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
       if (!std::isfinite(truth)) continue;
       const double d = dem.at(r, c) - truth;
       sum += d, sum2 += d * d;
+      if ((Eigen::Vector2d(dem.CellCentreX(c), dem.CellCentreY(r)) - station_xy).norm() <=
+          kNearRegionM)
+        near_sum2 += d * d, ++near;
       abs_errors.push_back(std::abs(d));
       const float s = std_dev ? std_dev->at(r, c) : Raster::kNoData;
       if (!Raster::IsNoData(s) && s > 0.0f) {
@@ -48,17 +55,19 @@ DemEvaluation EvaluateDem(const Raster& dem, const Raster& reference,
     e.p95_abs_m = abs_errors[std::min(abs_errors.size() - 1, static_cast<size_t>(0.95 * n))];
     e.max_abs_m = abs_errors.back();
   }
+  if (near > 0) e.rmse_30m_m = std::sqrt(near_sum2 / near);
   if (with_std > 0) {
     e.std_ratio_rms = std::sqrt(ratio2 / with_std);
     e.within_2std = static_cast<double>(within) / with_std;
   }
-  e.coverage_30m = DemCoverage(dem, station_xy, 30.0);
+  e.coverage_30m = DemCoverage(dem, station_xy, kNearRegionM);
   e.coverage_square = DemCoverage(dem, station_xy, 0.0);
   return e;
 }
 
 nlohmann::json DemEvaluation::ToJson() const {
   return {{"dem_rmse_m", rmse_m},
+          {"dem_rmse_30m_m", std::isfinite(rmse_30m_m) ? nlohmann::json(rmse_30m_m) : nullptr},
           {"dem_bias_m", bias_m},
           {"dem_p95_abs_m", p95_abs_m},
           {"dem_max_abs_m", max_abs_m},

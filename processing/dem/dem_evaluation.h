@@ -14,7 +14,10 @@ namespace ts {
 double DemCoverage(const Raster& dem, const Eigen::Vector2d& station_xy_m, double radius_m);
 
 struct DemEvaluation {
-  double rmse_m = 0.0;
+  double rmse_m = 0.0;  // over every cell of the DEM (the 60 m square)
+  // Over the cells whose centre lies within 30 m of the station: the near region the terrain
+  // correction needs and issue 22's targets are set on (NaN: none compared).
+  double rmse_30m_m = NAN;
   double bias_m = 0.0;     // mean of DEM - reference
   double p95_abs_m = 0.0;  // 95th percentile of |DEM - reference|
   double max_abs_m = 0.0;

@@ -418,7 +418,9 @@ void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table*
   const std::string s = std::string(scene) + " s" + std::to_string(seed) + ": ";
   char target[32];
   std::snprintf(target, sizeof target, "<= %.2f", max_rmse_m);
-  table->Add({s + "DEM RMSE", e.rmse_m, "m", target, e.rmse_m <= max_rmse_m});
+  // Issue 22 sets its targets on the near region (within 30 m); the square's is beside it.
+  table->Add({s + "DEM RMSE within 30 m", e.rmse_30m_m, "m", target, e.rmse_30m_m <= max_rmse_m});
+  table->Add({s + "  DEM RMSE, the 60 m square", e.rmse_m, "m", ""});
   table->Add({s + "coverage within 30 m", e.coverage_30m, "", ""});
   table->Add({s + "DEM RMS of error / std", e.std_ratio_rms, "", "0.7-1.5",
               e.std_ratio_rms >= 0.7 && e.std_ratio_rms <= 1.5});
