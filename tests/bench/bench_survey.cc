@@ -165,7 +165,7 @@ void SurveyScene(const SceneTargets& t, uint64_t seed, bench::Table* table) {
   table->Add({s + "  DEM RMSE, estimated / true on the same images", rmse / rmse_same, "", ""});
   // The calibration's effect alone: the same images, on the cells both DEMs reach (where one
   // reaches farther its extra cells carry the error of ground nobody saw well).
-  table->Add({s + "  the same on the cells both cover",
+  table->Add({s + "  the same images on the cells both cover",
               CommonRmseRatio(dir / "estimated", dir / "same-images", dir / "estimated-truth", e),
               "", ""});
   table->Add(
