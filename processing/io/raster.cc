@@ -36,6 +36,12 @@ Raster Raster::Make(double min_x_m, double max_y_m, double cell_m, int cols, int
   return r;
 }
 
+double Raster::NearestCell(double x_m, double y_m) const {
+  int row = 0, col = 0;
+  if (!CellOf(x_m, y_m, &row, &col) || IsNoData(at(row, col))) return NAN;
+  return at(row, col);
+}
+
 double Raster::Interpolate(double x_m, double y_m) const {
   const double fc = (x_m - min_x_m) / cell_m - 0.5, fr = (max_y_m - y_m) / cell_m - 0.5;
   const int c0 = static_cast<int>(std::floor(fc)), r0 = static_cast<int>(std::floor(fr));
@@ -83,7 +89,8 @@ double Raster::InterpolateCubic(double x_m, double y_m) const {
   return sum;
 }
 
-Raster Raster::ResampledOnto(const Raster& grid, double turn_deg, double lift_m) const {
+Raster Raster::ResampledOnto(const Raster& grid, double turn_deg, double lift_m,
+                             Sampling sampling) const {
   Raster out = grid;
   // A grid point at azimuth a is this raster's point at azimuth a - turn: turned clockwise by
   // -turn.
@@ -91,7 +98,9 @@ Raster Raster::ResampledOnto(const Raster& grid, double turn_deg, double lift_m)
   for (int r = 0; r < grid.rows; ++r)
     for (int c = 0; c < grid.cols; ++c) {
       const double x = grid.CellCentreX(c), y = grid.CellCentreY(r);
-      const double v = Interpolate(x * cos_t + y * sin_t, -x * sin_t + y * cos_t);
+      const double here_x = x * cos_t + y * sin_t, here_y = -x * sin_t + y * cos_t;
+      const double v = sampling == Sampling::kBilinear ? Interpolate(here_x, here_y)
+                                                       : NearestCell(here_x, here_y);
       out.at(r, c) = std::isfinite(v) ? static_cast<float>(v + lift_m) : kNoData;
     }
   return out;

@@ -36,17 +36,22 @@ struct Raster {
     *row = static_cast<int>(std::floor((max_y_m - y_m) / cell_m));
     return *col >= 0 && *row >= 0 && *col < cols && *row < rows;
   }
+  // The value of the cell holding (x, y); NaN outside or in nodata.
+  double NearestCell(double x_m, double y_m) const;
   // Bilinear interpolation between cell centres; NaN outside or next to nodata.
   double Interpolate(double x_m, double y_m) const;
   // Cubic convolution (Catmull-Rom) over the 4 x 4 cells around (x, y), which follows a
   // curved surface where bilinear cuts its chords; bilinear where one of them has no data.
   double InterpolateCubic(double x_m, double y_m) const;
-  // This raster sampled (bilinearly) at the cell centres of `grid` (its geometry and CRS).
+  enum class Sampling { kBilinear, kNearestCell };
+  // This raster sampled at the cell centres of `grid` (its geometry and CRS): bilinearly, or
+  // the value of the cell each centre falls in (a mask keeps its edge there).
   // turn_deg: the grid's azimuths (clockwise from +Y, about the origin) stand this far from
   // this raster's, as a station frame's do from another's when their pan zeros differ.
   // lift_m: the grid's heights stand this far above this raster's, as a station frame's do
   // when its origin lies another height under the tilt axis.
-  Raster ResampledOnto(const Raster& grid, double turn_deg = 0.0, double lift_m = 0.0) const;
+  Raster ResampledOnto(const Raster& grid, double turn_deg = 0.0, double lift_m = 0.0,
+                       Sampling sampling = Sampling::kBilinear) const;
 };
 
 // Float32 GeoTIFF, one band, nodata = Raster::kNoData, deflate-compressed; written to a

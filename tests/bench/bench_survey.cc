@@ -63,29 +63,21 @@ std::string AtMost(double v) {
   return s;
 }
 
-// Whether `mask` (in a station frame whose azimuths stand `turn_deg` from this one's) has a
-// value in the cell under (x, y): the nearest cell, as bilinear sampling would drop the cells
-// beside every gap of the mask and so the edges where a DEM's error is largest.
-bool Covers(const Raster& mask, double x, double y, double turn_deg) {
-  const double t = -turn_deg * M_PI / 180.0;
-  int row = 0, col = 0;
-  return mask.CellOf(x * std::cos(t) + y * std::sin(t), -x * std::sin(t) + y * std::cos(t), &row,
-                     &col) &&
-         !Raster::IsNoData(mask.at(row, col));
-}
-
 // RMS of the DEM's error over the cells it has in `mask`'s turned footprint (both each in their
 // own station frame, `turn_deg` apart), against the truth turned and lifted (`lift_m`) into its
-// frame.
+// frame. The mask is taken by the nearest cell: bilinear sampling would drop the cells beside
+// every gap of the mask and so the edges where a DEM's error is largest.
 double RmseWithin(const Raster& dem, const Raster& mask, const Raster& truth, double turn_deg,
                   double lift_m, double mask_turn_deg) {
   const Raster truth_here = truth.ResampledOnto(dem, turn_deg, lift_m);
+  const Raster mask_here =
+      mask.ResampledOnto(dem, mask_turn_deg, 0.0, Raster::Sampling::kNearestCell);
   double sum = 0.0;
   int n = 0;
   for (int r = 0; r < dem.rows; ++r)
     for (int c = 0; c < dem.cols; ++c)
       if (!Raster::IsNoData(dem.at(r, c)) && !Raster::IsNoData(truth_here.at(r, c)) &&
-          Covers(mask, dem.CellCentreX(c), dem.CellCentreY(r), mask_turn_deg)) {
+          !Raster::IsNoData(mask_here.at(r, c))) {
         sum += std::pow(dem.at(r, c) - truth_here.at(r, c), 2);
         ++n;
       }

@@ -62,6 +62,28 @@ TEST(Raster, ResampledOntoAGridLiftedSeesTheGroundHigherByTheLift) {
       EXPECT_NEAR(lifted.at(row, col), 0.1 * grid.CellCentreX(col) - 1.5 + 0.0125, 1e-5);
 }
 
+// A mask sampled by the nearest cell keeps its edge where it was: the cells beside a gap keep
+// their values, which bilinear sampling (NaN next to nodata) drops on one side. Turned by
+// 90 deg, the gap at x = 3 stands at the grid's y = -3 (the grid's azimuth 90 is the mask's 0).
+TEST(Raster, ResampledOntoByTheNearestCellKeepsTheCellsBesideAGap) {
+  Raster mask = Plane([](double, double) { return 1.0; });
+  int gap_row = 0, gap_col = 0;
+  ASSERT_TRUE(mask.CellOf(3.0, 0.0, &gap_row, &gap_col));
+  for (int row = 0; row < mask.rows; ++row) mask.at(row, gap_col) = Raster::kNoData;
+  const Raster grid = Plane([](double, double) { return 0.0; });
+  const Raster nearest = mask.ResampledOnto(grid, 0.0, 0.0, Raster::Sampling::kNearestCell);
+  const Raster bilinear = mask.ResampledOnto(grid);
+  const Raster turned = mask.ResampledOnto(grid, 90.0, 0.0, Raster::Sampling::kNearestCell);
+  for (int row = 1; row + 1 < grid.rows; ++row)
+    for (int col = 1; col + 1 < grid.cols; ++col) {
+      const double x = grid.CellCentreX(col), y = grid.CellCentreY(row);
+      EXPECT_EQ(Raster::IsNoData(nearest.at(row, col)), x == 3.0) << x << ", " << y;
+      // A centre's bilinear square reaches east: the cell west of the gap falls with it.
+      EXPECT_EQ(Raster::IsNoData(bilinear.at(row, col)), x == 2.0 || x == 3.0) << x << ", " << y;
+      EXPECT_EQ(Raster::IsNoData(turned.at(row, col)), y == -3.0) << x << ", " << y;
+    }
+}
+
 // Catmull-Rom reproduces a quadratic exactly, where bilinear interpolation cuts its chords
 // (midway between two centres by an eighth of the second derivative times the cell squared);
 // with a cell of no data among the sixteen it falls back to bilinear.
