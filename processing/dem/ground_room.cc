@@ -61,12 +61,18 @@ class FinePoints {
   // over 180 degrees among them).
   bool CentreSurrounded(int r, int c, double cell_m) const {
     const int fr = FineRow(r), fc = FineCol(c);
-    const int reach = static_cast<int>(std::ceil((DistanceToCentre(r, c) + cell_m) / fine_));
+    const double within = (DistanceToCentre(r, c) + cell_m) / fine_;  // fine cells
+    const int reach = static_cast<int>(std::ceil(within));
     std::vector<double> angles;
     for (int rr = std::max(0, fr - reach); rr <= std::min(free_.rows - 1, fr + reach); ++rr)
-      for (int cc = std::max(0, fc - reach); cc <= std::min(free_.cols - 1, fc + reach); ++cc)
+      for (int cc = std::max(0, fc - reach); cc <= std::min(free_.cols - 1, fc + reach); ++cc) {
         // The fine cell (fr, fc)'s centre is half a fine cell off the DEM cell's (kRatio is even).
-        if (!free_.at<uint8_t>(rr, cc)) angles.push_back(std::atan2(fr - rr - 0.5, cc - fc + 0.5));
+        const double up = fr - rr - 0.5, east = cc - fc + 0.5;
+        // Within the circle: the square's corners would reach the far tread past a riser
+        // (beside a cell centre past the lip, 2 m off) and close the gap the lip leaves.
+        if (!free_.at<uint8_t>(rr, cc) && std::hypot(up, east) <= within)
+          angles.push_back(std::atan2(up, east));
+      }
     return LargestAngularGap(std::move(angles)) <= M_PI;
   }
 

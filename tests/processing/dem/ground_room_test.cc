@@ -197,6 +197,18 @@ TEST(GroundRoom, OnlyACellCentreBeyondItsPointsGetsTheRoomOfGroundNobodySaw) {
   EXPECT_NEAR(under_lines.at(10, 7), std::hypot(0.01, 1.2 / std::sqrt(3.0)), 1e-4);
 }
 
+// The same lip, and one point of the lower tread seen 1.9 m south-east of the centre beyond
+// it (a terrace's tread below the riser, seen past its end): the points that close the gap
+// round a centre are those within a cell of its nearest point (1.5 m), not those in the
+// square around it, whose corner this point stands in. The centre still lies beyond the lip.
+TEST(GroundRoom, ACentreIsSurroundedOnlyByThePointsWithinACellOfItsNearest) {
+  ProfileSite site = MakeProfileSite([](double x) { return 0.2 * std::abs(x - 4.0); },
+                                     [](double x, double) { return x < 7.25; });
+  site.ground.positions.emplace_back(8.875, 8.125, 0.2 * (8.875 - 4.0) - 1.2);
+  WidenStdByGroundRoom(site.ground, site.dem, nullptr, {}, &site.std);
+  EXPECT_NEAR(site.std.at(10, 7), std::hypot(0.01, 0.5 * 0.4 * 0.5), 0.005);
+}
+
 // Level ground seen all round a gap 7-13 m, and a face east of x = 15 m rising at 1 in 1 (a
 // quarter of the seen cells): the station saw ground as steep as 1. The seen slopes within
 // 5 m of the gap's centre turn by 0.25 at most, but no line of sight passed over the gap: its
