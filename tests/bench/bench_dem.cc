@@ -23,7 +23,8 @@
 //    They show how far what was tuned on one station carries to other sites;
 //  - issue 22's landforms (embankment, terraces, foot, ridge, badlands), seed 1 or each of
 //    --seeds: DEM RMSE, the std's honesty (also on each kind of cell alone: seen, unseen
-//    under a line of sight, unseen beyond the lines), cells standing above a line of sight
+//    under a line of sight, unseen beyond the lines; and the cells more than 10 std off, which
+//    an honest std has none of, with the rest alone), cells standing above a line of sight
 //    (sight_line_bound.h), the terrain correction's error against its sigma.
 #include <pcl/filters/extract_indices.h>
 #include <pcl/point_types.h>
@@ -391,6 +392,39 @@ std::vector<CellKindHonesty> HonestyByCellKind(const TrueSite& site, const Raste
   return kinds;
 }
 
+// Whether the std misses all over or in a few cells: the cells more than 10 std off (a DEM
+// whose std is honest has none), their share of the sum of (error / std)^2, and the rest
+// evaluated alone. A tail is matches that agree with each other and are wrong (a lip blended
+// with the ground behind it), not a std too small everywhere.
+struct StdTail {
+  int cells = 0;
+  double share_of_squares = 0.0;
+  DemEvaluation rest;
+};
+
+StdTail StdTailOf(const TrueSite& site, const Eigen::Vector2d& mark) {
+  constexpr double kTailStds = 10.0;
+  const ProcessResult& r = site.result;
+  const DemEvaluation& all = site.evaluation;
+  Raster rest = r.dem;
+  StdTail tail;
+  double squares = 0.0;
+  for (int row = 0; row < rest.rows; ++row)
+    for (int col = 0; col < rest.cols; ++col) {
+      const float s = r.dem_std.at(row, col);
+      if (Raster::IsNoData(rest.at(row, col)) || Raster::IsNoData(s) || s <= 0.0f) continue;
+      const double truth = site.truth.Interpolate(rest.CellCentreX(col), rest.CellCentreY(row));
+      const double ratio = (rest.at(row, col) - truth) / s;
+      if (!(std::abs(ratio) > kTailStds)) continue;
+      ++tail.cells, squares += ratio * ratio;
+      rest.at(row, col) = Raster::kNoData;
+    }
+  const double all_squares = all.cells_compared * all.std_ratio_rms * all.std_ratio_rms;
+  if (all_squares > 0.0) tail.share_of_squares = squares / all_squares;
+  tail.rest = EvaluateDem(rest, site.truth, mark, &r.dem_std);
+  return tail;
+}
+
 // Issue 22's landforms, each seed: what the DEM and its std claim where the ground hides
 // itself from the tripod, against the truth (the true calibration, as the scenes above).
 void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table* table) {
@@ -432,6 +466,10 @@ void Landform(const char* scene, double max_rmse_m, uint64_t seed, bench::Table*
     table->Add(
         {s + "  " + k.name + ": share of the sum of (error / std)^2", k.share_of_squares, "", ""});
   }
+  const StdTail tail = StdTailOf(site, mark3.head<2>());
+  table->Add({s + "  cells more than 10 std off", static_cast<double>(tail.cells), "", ""});
+  table->Add({s + "  their share of the sum of (error / std)^2", tail.share_of_squares, "", ""});
+  table->Add({s + "  RMS of error / std without them", tail.rest.std_ratio_rms, "", ""});
   table->Add({s + "cells above a line of sight by > 0.1 m", static_cast<double>(v.above), "", "0",
               v.above == 0});
   table->Add({s + "  the most above a line of sight", v.max_above_m, "m", ""});
