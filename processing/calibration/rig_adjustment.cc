@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "processing/calibration/rig_cameras.h"
+#include "processing/common/median.h"
 #include "processing/geometry/camera_model.h"
 
 namespace ts {
@@ -278,21 +279,43 @@ struct ImageSigmas {
   double Of(bool target) const { return sigma[target ? 1 : 0]; }
 };
 
+// Each observation's sigma relative to its kind's image sigma: a measurement's own sigma over
+// the median of its kind's own sigmas, 1 for one without (RigTieObservation::
+// measured_sigma_px). The image sigma, a variance component, then scales them all.
+std::vector<double> RelativeSigmas(const RigAdjustmentInput& in, const std::vector<char>& control) {
+  std::array<std::vector<double>, 2> measured;
+  for (const RigTieObservation& t : in.observations)
+    if (t.measured_sigma_px > 0.0)
+      measured[control[t.point] ? 1 : 0].push_back(t.measured_sigma_px);
+  const std::array<double, 2> median = {Median(measured[0]), Median(measured[1])};
+  std::vector<double> relative(in.observations.size(), 1.0);
+  for (size_t i = 0; i < in.observations.size(); ++i) {
+    const RigTieObservation& t = in.observations[i];
+    if (t.measured_sigma_px > 0.0)
+      relative[i] = t.measured_sigma_px / median[control[t.point] ? 1 : 0];
+  }
+  return relative;
+}
+
 // The image observations' sums, per kind.
 struct ImageSums {
-  std::array<double, 2> squares{};
+  std::array<double, 2> squares{};        // each over its relative sigma squared
+  std::array<double, 2> pixel_squares{};  // as they are
   std::array<int, 2> kept{}, coordinates{};
   std::array<std::set<int>, 2> points;
 };
 
+// `squared`: each observation's squared residual in pixels (SquaredResiduals).
 ImageSums SumImageResiduals(const RigAdjustmentInput& in, const std::vector<char>& control,
+                            const std::vector<double>& relative_sigma,
                             const std::vector<double>& squared, const std::vector<char>& rejected) {
   ImageSums sums;
   for (size_t i = 0; i < squared.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
     const int kind = control[t.point] ? 1 : 0;
-    sums.squares[kind] += squared[i];
+    sums.squares[kind] += squared[i] / (relative_sigma[i] * relative_sigma[i]);
+    sums.pixel_squares[kind] += squared[i];
     ++sums.kept[kind];
     sums.coordinates[kind] += t.along_epipolar_only ? 1 : 2;
     sums.points[kind].insert(t.point);
@@ -324,14 +347,16 @@ std::optional<ImageSigmas> EstimateImageSigmas(const ImageSums& sums, int parame
 // the Huber loss's reweighting of the 3-4 sigma residuals takes a hundred. `control`:
 // in.ControlPoints().
 Status BuildProblem(const RigAdjustmentInput& in, const std::vector<char>& control,
-                    const RigAdjustmentOptions& o, bool robust, const ImageSigmas& pixel_sigma,
-                    const std::vector<double>& prior, const std::set<int>& held,
-                    const std::vector<char>& rejected, Unknowns* u, ceres::Problem* problem) {
+                    const std::vector<double>& relative_sigma, const RigAdjustmentOptions& o,
+                    bool robust, const ImageSigmas& pixel_sigma, const std::vector<double>& prior,
+                    const std::set<int>& held, const std::vector<char>& rejected, Unknowns* u,
+                    ceres::Problem* problem) {
   const Placements placements(in);
   for (size_t i = 0; i < in.observations.size(); ++i) {
     if (rejected[i]) continue;
     const RigTieObservation& t = in.observations[i];
-    auto* cost = new TieCost(in.calibration, t, placements, pixel_sigma.Of(control[t.point]));
+    auto* cost = new TieCost(in.calibration, t, placements,
+                             pixel_sigma.Of(control[t.point]) * relative_sigma[i]);
     problem->AddResidualBlock(
         cost, robust ? new ceres::HuberLoss(3.0) : nullptr,
         {u->stage.data(), u->levelling[in.poses[t.pose].station].data(), u->encoder[t.pose].data(),
@@ -701,13 +726,14 @@ std::vector<double> SquaredResiduals(const RigAdjustmentInput& in, const Unknown
 // observation of a point that no longer ties two poses (its position would be free along a
 // ray); true when the marks changed. `control`: in.ControlPoints().
 bool Reject(const RigAdjustmentInput& in, const std::vector<char>& control,
-            const std::vector<double>& squares, const ImageSigmas& sigma,
-            std::vector<char>* rejected) {
+            const std::vector<double>& relative_sigma, const std::vector<double>& squares,
+            const ImageSigmas& sigma, std::vector<char>* rejected) {
   std::vector<char> marks(squares.size());
   std::vector<std::set<int>> poses_of(in.points.size());
   for (size_t i = 0; i < squares.size(); ++i) {
     const int point = in.observations[i].point;
-    marks[i] = squares[i] > 2.0 * std::pow(kRejectionK * sigma.Of(control[point]), 2);
+    marks[i] =
+        squares[i] > 2.0 * std::pow(kRejectionK * sigma.Of(control[point]) * relative_sigma[i], 2);
     if (!marks[i]) poses_of[in.observations[i].point].insert(in.observations[i].pose);
   }
   for (size_t i = 0; i < squares.size(); ++i)
@@ -741,6 +767,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
   // images against the encoders, the inclinometer and the survey by what the images show.
   ImageSigmas pixel_sigma{{o.pixel_sigma_px, o.pixel_sigma_px}};
   const std::vector<char> control = in.ControlPoints();
+  const std::vector<double> relative_sigma = RelativeSigmas(in, control);
   u.stage = stage_prior;
   u.levelling.resize(stations.size());
   for (int i = kStageParameterCount; i < static_cast<int>(prior.size()); ++i)
@@ -755,14 +782,14 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     for (int i : held) u.Parameter(i) = prior[i];
     ceres::Problem problem;
     const bool robust = weighing == 0 && observability == 0;
-    if (Status s =
-            BuildProblem(in, control, o, robust, pixel_sigma, prior, held, rejected, &u, &problem);
+    if (Status s = BuildProblem(in, control, relative_sigma, o, robust, pixel_sigma, prior, held,
+                                rejected, &u, &problem);
         !s)
       return Error{"rig adjustment: " + s.error()};
     const std::vector<char> problem_rejected = rejected;
     if (Status s = Solve(robust, &problem); !s) return Error{"rig adjustment: " + s.error()};
     const std::vector<double> squared = SquaredResiduals(in, u);
-    const ImageSums sums = SumImageResiduals(in, control, squared, rejected);
+    const ImageSums sums = SumImageResiduals(in, control, relative_sigma, squared, rejected);
     const int kept = sums.kept[0] + sums.kept[1];
     const std::vector<int> free = FreeParameters(&u, held, &problem);
     const std::vector<int> camera_free =
@@ -774,13 +801,18 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     bool reweigh = false;
     for (int kind : {0, 1})
       reweigh |= std::abs(image_sigma->sigma[kind] / pixel_sigma.sigma[kind] - 1.0) > 0.05;
-    const bool marks_changed = Reject(in, control, squared, *image_sigma, &rejected);
+    const bool marks_changed =
+        Reject(in, control, relative_sigma, squared, *image_sigma, &rejected);
     if ((reweigh || marks_changed) && weighing++ < kMaxWeightRounds) {
       pixel_sigma = *image_sigma;
       continue;
     }
     r.observations = kept;
     r.rejected_observation = problem_rejected;
+    r.encoder_sigma_deg = o.encoder_sigma_deg;
+    for (size_t i = 0; i < in.observations.size(); ++i)
+      r.observation_sigma_px.push_back(image_sigma->Of(control[in.observations[i].point]) *
+                                       relative_sigma[i]);
     r.rejected = static_cast<int>(in.observations.size()) - kept;
     const std::optional<ParameterCovariances> covariance =
         ParameterCovariance(&u, free, camera_free, &problem);
@@ -793,7 +825,7 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       r.undetermined.insert(r.undetermined.end(), reasons.begin(), reasons.end());
       continue;
     }
-    r.rms_px = std::sqrt((sums.squares[0] + sums.squares[1]) / (2.0 * kept));
+    r.rms_px = std::sqrt((sums.pixel_squares[0] + sums.pixel_squares[1]) / (2.0 * kept));
     r.image_sigma_px = image_sigma->sigma[sums.kept[0] > 0 ? 0 : 1];
     const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, covariance->stage(i, i))); };
     for (int s = 0; s < station_count; ++s) {

@@ -98,6 +98,11 @@ struct RigTieObservation {
   // The pixel carries one coordinate of information, not two: the partner image of a rectified
   // stereo match, whose position across the epipolar line the matching imposed.
   bool along_epipolar_only = false;
+  // The matching's own a-posteriori sigma of this measurement (px, per coordinate; 0: none).
+  // A tie point found in a neighbour by least-squares matching is as precise as its fit, which
+  // varies several-fold with the texture; its weight follows it (RigAdjustment::
+  // observation_sigma_px), as one image sigma for all would not.
+  double measured_sigma_px = 0.0;
 };
 
 // Targets surveyed in a frame of their own, seen from the poses of one station (the set-up at
@@ -137,13 +142,18 @@ struct RigAdjustment {
   // The parameters held at their prior because the panorama does not determine them, with why.
   std::vector<std::string> undetermined;
   // Of a tie point's image coordinate, a posteriori (a variance component: the sigmas above
-  // are weighed with it; a control field's targets have their own).
+  // are weighed with it; a control field's targets have their own); of one whose measurement
+  // has a sigma of its own, this for the median one (observation_sigma_px).
   double image_sigma_px = 0.0;
   double rms_px = 0.0;                     // over the image observations kept
   int observations = 0;                    // image observations kept
   int rejected = 0;                        // off by more than 4 sigma: mismatched tie points
   std::vector<char> rejected_observation;  // per input observation
-  std::vector<Eigen::Vector3d> points;     // adjusted, in L
+  // Per input observation, its sigma a posteriori (px, per coordinate): its kind's image sigma,
+  // scaled for a measurement with a sigma of its own by that over the median of its kind's.
+  std::vector<double> observation_sigma_px;
+  double encoder_sigma_deg = 0.0;       // of the read-back angles (the options')
+  std::vector<Eigen::Vector3d> points;  // adjusted, in L
   // Per control field: its pose in L, and how its targets fit (RMS of their image residuals;
   // the largest move of a surveyed point, in its sigmas).
   struct ControlFit {

@@ -7,10 +7,38 @@
 #include "processing/geometry/camera_model.h"
 
 namespace ts {
+namespace {
+
+// How the pixel at which the neighbour (pose `to`) sees the pair's point (intersected at pose
+// `from` with `intersected`, in L) moves with the two poses' pan and tilt (px per degree; the
+// pair's pan and tilt, then the neighbour's): numerically, about `projected`.
+Eigen::Matrix<double, 2, 4> SeenAcrossTheAngles(const Calibration& calibration,
+                                                const Calibration& intersected, const RigPose& from,
+                                                const RigPose& to,
+                                                const Eigen::Vector3d& point_in_l,
+                                                const Eigen::Vector2d& projected) {
+  const CameraModel left(calibration.rig.left);
+  const Eigen::Vector3d in_camera =
+      intersected.LFromCamera(Side::kLeft, from.pan_deg, from.tilt_deg).inverse() * point_in_l;
+  constexpr double kStepDeg = 1e-3;
+  Eigen::Matrix<double, 2, 4> d = Eigen::Matrix<double, 2, 4>::Zero();
+  for (int j = 0; j < 4; ++j) {
+    RigPose a = from, b = to;
+    (j == 0 ? a.pan_deg : j == 1 ? a.tilt_deg : j == 2 ? b.pan_deg : b.tilt_deg) += kStepDeg;
+    const Eigen::Vector3d point =
+        calibration.LFromCamera(Side::kLeft, a.pan_deg, a.tilt_deg) * in_camera;
+    Eigen::Vector2d moved;
+    if (left.Project(calibration.LFromCamera(Side::kLeft, b.pan_deg, b.tilt_deg).inverse() * point,
+                     &moved))
+      d.col(j) = (moved - projected) / kStepDeg;
+  }
+  return d;
+}
+
+}  // namespace
 
 RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibration,
                          const RigAdjustment& adjustment, int station) {
-  const double image_sigma_px = adjustment.image_sigma_px;
   const CameraModel left(calibration.rig.left);
   const double c = calibration.rig.left.principal_distance_px;
   const auto l_from_left = [](const Calibration& of, const RigPose& pose) {
@@ -22,18 +50,21 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibr
   for (size_t s = 0; s < in.Stations().size(); ++s)
     intersected.push_back(in.CalibrationOf(static_cast<int>(s)));
   std::vector<int> first_pose(in.points.size(), -1);
+  // Each point's first observation: its pair's (of a panorama's tie point, its left image's).
+  std::vector<size_t> first_observation(in.points.size(), 0);
   // A control field's targets are not seams: no pair intersected them.
   std::vector<char> left_out = in.ControlPoints();
   for (size_t i = 0; i < in.observations.size(); ++i) {
     const RigTieObservation& t = in.observations[i];
-    if (first_pose[t.point] < 0) first_pose[t.point] = t.pose;
+    if (first_pose[t.point] < 0) first_pose[t.point] = t.pose, first_observation[t.point] = i;
     if (i < adjustment.rejected_observation.size() && adjustment.rejected_observation[i])
       left_out[t.point] = 1;
   }
   RigSeams seams;
   std::vector<double> px, mm;
   int within = 0;
-  for (const RigTieObservation& t : in.observations) {
+  for (size_t i = 0; i < in.observations.size(); ++i) {
+    const RigTieObservation& t = in.observations[i];
     const int k = first_pose[t.point];
     if (t.pose == k || t.side != Side::kLeft || left_out[t.point]) continue;
     if (station >= 0 && in.poses[k].station != station) continue;
@@ -49,8 +80,16 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibr
     CameraModel::Jacobian2x3 d_pixel;
     if (!left.Project(in_camera, &projected, &d_pixel)) continue;
     // The disagreement is the difference of two image measurements, the pair's and the
-    // neighbour's, each with the image sigma.
-    Eigen::Matrix2d predicted = 2.0 * image_sigma_px * image_sigma_px * Eigen::Matrix2d::Identity();
+    // neighbour's, each with its sigma; of where the two poses really stood about their
+    // read-back angles (the encoders' sigma); and of the pair's intersection.
+    const double pair_sigma = adjustment.observation_sigma_px[first_observation[t.point]];
+    const double sigma = adjustment.observation_sigma_px[i];
+    Eigen::Matrix2d predicted =
+        (pair_sigma * pair_sigma + sigma * sigma) * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix<double, 2, 4> d_angles =
+        SeenAcrossTheAngles(calibration, intersected[in.poses[k].station], in.poses[k],
+                            in.poses[t.pose], in.points[t.point], projected);
+    predicted += std::pow(adjustment.encoder_sigma_deg, 2) * d_angles * d_angles.transpose();
     if (static_cast<size_t>(t.point) < in.point_covariance_m2.size()) {
       const Eigen::Matrix<double, 2, 3> d = d_pixel * camera_from_l.linear() * move.linear();
       predicted += d * in.point_covariance_m2[t.point] * d.transpose();

@@ -71,9 +71,9 @@ std::optional<Candidate> Predict(const CameraModel& model, const View& from, con
 }
 
 // The candidate found in the neighbour: NCC of the warped window about the prediction, then
-// least-squares matching.
-std::optional<Eigen::Vector2d> Find(const View& from, const View& to, const Candidate& c,
-                                    const RigTiePointOptions& o) {
+// least-squares matching, whose fit gives the position and its sigma.
+std::optional<LsmResult> Find(const View& from, const View& to, const Candidate& c,
+                              const RigTiePointOptions& o) {
   const int h = o.half_window_px, s = static_cast<int>(std::ceil(o.search_px));
   const cv::Rect search(static_cast<int>(std::round(c.predicted.x())) - h - s,
                         static_cast<int>(std::round(c.predicted.y())) - h - s, 2 * (h + s) + 1,
@@ -102,7 +102,7 @@ std::optional<Eigen::Vector2d> Find(const View& from, const View& to, const Cand
                cv::Point(static_cast<int>(c.centre.x()), static_cast<int>(c.centre.y())), to.image,
                start, lsm, &c.shape);
   if (!r.ok) return std::nullopt;
-  return r.position_px;
+  return r;
 }
 
 RigTiePair MakeTiePair(const Calibration& calibration, const StereoPairImages& pair,
@@ -143,7 +143,7 @@ void TiePointsBetween(const Calibration& calibration, const CameraModel& left,
       calibration.LFromCamera(Side::kRight, from.pan_deg, from.tilt_deg).inverse();
   for (size_t i = 0; i < candidates.size(); i += step) {
     const Candidate& c = candidates[i];
-    const std::optional<Eigen::Vector2d> found = Find(from.view, to.view, c, o);
+    const std::optional<LsmResult> found = Find(from.view, to.view, c, o);
     Eigen::Vector2d in_right;
     if (!found || !right.Project(right_from_l * c.point, &in_right)) continue;
     const int point = static_cast<int>(out->points.size());
@@ -151,7 +151,9 @@ void TiePointsBetween(const Calibration& calibration, const CameraModel& left,
     out->point_covariance_m2.push_back(covariances[i]);
     out->observations.push_back({0, Side::kLeft, point, c.centre});
     out->observations.push_back({0, Side::kRight, point, in_right, true});
-    out->observations.push_back({1, Side::kLeft, point, *found});
+    // The fit's sigma per coordinate (the RMS of its two).
+    const double sigma_px = std::hypot(found->sigma_x_px, found->sigma_y_px) / std::sqrt(2.0);
+    out->observations.push_back({1, Side::kLeft, point, found->position_px, false, sigma_px});
   }
 }
 
