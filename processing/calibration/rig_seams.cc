@@ -9,17 +9,16 @@
 namespace ts {
 namespace {
 
-// How the pixel at which the neighbour (pose `to`) sees the pair's point (intersected at pose
-// `from` with `intersected`, in L) moves with the two poses' pan and tilt (px per degree; the
-// pair's pan and tilt, then the neighbour's): numerically, about `projected`.
+// How the pixel at which the neighbour (pose `to`) sees the pair's point (`point_in_l`, in the
+// L of `calibration`, seen from pose `from`) moves with the two poses' pan and tilt (px per
+// degree; the pair's pan and tilt, then the neighbour's): numerically, about `projected`.
 Eigen::Matrix<double, 2, 4> SeenAcrossTheAngles(const Calibration& calibration,
-                                                const Calibration& intersected, const RigPose& from,
+                                                const CameraModel& left, const RigPose& from,
                                                 const RigPose& to,
                                                 const Eigen::Vector3d& point_in_l,
                                                 const Eigen::Vector2d& projected) {
-  const CameraModel left(calibration.rig.left);
   const Eigen::Vector3d in_camera =
-      intersected.LFromCamera(Side::kLeft, from.pan_deg, from.tilt_deg).inverse() * point_in_l;
+      calibration.LFromCamera(Side::kLeft, from.pan_deg, from.tilt_deg).inverse() * point_in_l;
   constexpr double kStepDeg = 1e-3;
   Eigen::Matrix<double, 2, 4> d = Eigen::Matrix<double, 2, 4>::Zero();
   for (int j = 0; j < 4; ++j) {
@@ -87,8 +86,7 @@ RigSeams MeasureRigSeams(const RigAdjustmentInput& in, const Calibration& calibr
     Eigen::Matrix2d predicted =
         (pair_sigma * pair_sigma + sigma * sigma) * Eigen::Matrix2d::Identity();
     const Eigen::Matrix<double, 2, 4> d_angles =
-        SeenAcrossTheAngles(calibration, intersected[in.poses[k].station], in.poses[k],
-                            in.poses[t.pose], in.points[t.point], projected);
+        SeenAcrossTheAngles(calibration, left, in.poses[k], in.poses[t.pose], point, projected);
     predicted += std::pow(adjustment.encoder_sigma_deg, 2) * d_angles * d_angles.transpose();
     if (static_cast<size_t>(t.point) < in.point_covariance_m2.size()) {
       const Eigen::Matrix<double, 2, 3> d = d_pixel * camera_from_l.linear() * move.linear();
