@@ -5,6 +5,7 @@
 // shared, each station's levelling its own. A control field session (`--field-session`: its
 // targets measured with the calibration's cameras) joins it as one more set-up, whose surveyed
 // targets fix where the cameras stand.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -192,10 +193,15 @@ void RunCalibrateRig(const CalibrateRigArgs& args) {
     PrintSeams("after", check.after);
   }
   const StageVector b = StageVectorOf(check.start), a = StageVectorOf(r.stage);
-  for (int i = 0; i < kStageParameterCount; ++i)
-    if (r.sigma[i] > 0.0)
-      std::printf("  %-22s %+.5f +- %.5f (change %+.5f)\n", kStageParameterNames[i], a[i],
-                  r.sigma[i], a[i] - b[i]);
+  const bool carried = std::any_of(r.sigma_from_held_cameras.begin(),
+                                   r.sigma_from_held_cameras.end(), [](double s) { return s > 0; });
+  if (carried) std::printf("  (sigma: of it, the held cameras' calibration's share)\n");
+  for (int i = 0; i < kStageParameterCount; ++i) {
+    if (r.sigma[i] == 0.0) continue;
+    std::printf("  %-22s %+.5f +- %.5f", kStageParameterNames[i], a[i], r.sigma[i]);
+    if (carried) std::printf(" (%.5f)", r.sigma_from_held_cameras[i]);
+    std::printf(" (change %+.5f)\n", a[i] - b[i]);
+  }
   if (r.cameras.refined) PrintCameras(check);
   PrintStations(set_ups, check);
   for (const std::string& w : r.undetermined) std::printf("  %s\n", w.c_str());

@@ -463,17 +463,52 @@ std::vector<int> FreeCameraParameters(const Calibration& calibration, bool refin
 }
 
 // The covariances a posteriori (a priori scale; zero rows for held parameters): the stage's
-// and the stations' levellings' (LevellingParameter's list), the cameras' (rig_cameras.h's).
+// and the stations' levellings' (LevellingParameter's list) from the data, the cameras'
+// (rig_cameras.h's); and what held cameras' errors add to the stage's.
 struct ParameterCovariances {
-  Eigen::MatrixXd stage, cameras;
+  Eigen::MatrixXd stage, cameras, stage_from_held_cameras;
 };
+
+// The camera blocks held in the problem, each with its first column in the list
+// (rig_cameras.h's) and its size.
+struct CameraBlock {
+  double* values;
+  int first, size;
+};
+std::vector<CameraBlock> HeldCameraBlocks(Unknowns* u, ceres::Problem* problem) {
+  std::vector<CameraBlock> held;
+  const std::array<double*, 3> blocks = u->cameras.Blocks();
+  for (int b = 0; b < 3; ++b)
+    if (problem->HasParameterBlock(blocks[b]) && problem->IsParameterBlockConstant(blocks[b]))
+      held.push_back({blocks[b], b * CameraIntrinsics::kNumParameters,
+                      b < 2 ? CameraIntrinsics::kNumParameters : kStereoParameterCount});
+  return held;
+}
+
+// Held cameras are not exact: a calibration's error dc moves the stage's estimate by
+// dx = -N_xx^-1 N_xc dc, which the data's covariance N_xx^-1 leaves out. With dc's covariance
+// C (the calibration's, `held_covariance`), the stage's gains K C K^T, K = N_xx^-1 N_xc: the
+// "consider" covariance of a parameter held at an uncertain value.
+Eigen::MatrixXd ConsideredCovariance(const Eigen::MatrixXd& inverse, const Eigen::MatrixXd& n_xc,
+                                     const std::vector<CameraBlock>& held,
+                                     const Eigen::MatrixXd& held_covariance) {
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n_xc.cols(), n_xc.cols());
+  for (int a = 0, ca = 0; a < static_cast<int>(held.size()); ca += held[a++].size)
+    for (int b = 0, cb = 0; b < static_cast<int>(held.size()); cb += held[b++].size)
+      c.block(ca, cb, held[a].size, held[b].size) =
+          held_covariance.block(held[a].first, held[b].first, held[a].size, held[b].size);
+  const Eigen::MatrixXd k = inverse * n_xc;
+  return k * c * k.transpose();
+}
 
 // Nothing when the normal matrix is singular. The points are eliminated block by block (each
 // residual block of a tie observation holds one point), so the work grows with the
 // observations, not with the cube of the unknowns as a QR of the whole Jacobian does.
-std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::vector<int>& free,
-                                                        const std::vector<int>& camera_free,
-                                                        ceres::Problem* problem) {
+// `held_camera_covariance`: of the held cameras (RigCameraCovariance), empty when they are
+// refined.
+std::optional<ParameterCovariances> ParameterCovariance(
+    Unknowns* u, const std::vector<int>& free, const std::vector<int>& camera_free,
+    const Eigen::MatrixXd& held_camera_covariance, ceres::Problem* problem) {
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks.push_back(u->stage.data());
   for (auto& l : u->levelling)
@@ -495,7 +530,18 @@ std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::
   for (int i : camera_free) camera_blocks.insert(CameraBlockOf(i));
   for (int b : camera_blocks) options.parameter_blocks.push_back(u->cameras.Blocks()[b]);
   const int first_camera = static_cast<int>(free.size()) + 2 * encoders + field_parameters;
-  const int reduced = first_camera + static_cast<int>(camera_free.size());
+  const int estimated = first_camera + static_cast<int>(camera_free.size());
+  // Held cameras' columns follow, for their errors' share (ConsideredCovariance); Evaluate
+  // differentiates only variable blocks.
+  const std::vector<CameraBlock> held_cameras = held_camera_covariance.size() > 0
+                                                    ? HeldCameraBlocks(u, problem)
+                                                    : std::vector<CameraBlock>();
+  int reduced = estimated;
+  for (const CameraBlock& b : held_cameras) {
+    options.parameter_blocks.push_back(b.values);
+    problem->SetParameterBlockVariable(b.values);
+    reduced += b.size;
+  }
   // A point whose observations were all rejected has left the problem.
   std::vector<int> column_point;
   for (size_t p = 0; p < u->points.size(); ++p)
@@ -505,7 +551,9 @@ std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::
     }
   options.apply_loss_function = true;
   ceres::CRSMatrix j;
-  if (!problem->Evaluate(options, nullptr, nullptr, nullptr, &j)) return std::nullopt;
+  const bool evaluated = problem->Evaluate(options, nullptr, nullptr, nullptr, &j);
+  for (const CameraBlock& b : held_cameras) problem->SetParameterBlockConstant(b.values);
+  if (!evaluated) return std::nullopt;
   // Each row holds at most one point's columns: the normal matrix's blocks gathered per point,
   // then the points eliminated (Schur complement).
   const int points = static_cast<int>(column_point.size());
@@ -557,8 +605,9 @@ std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::
   }
   // Inverted with its diagonal scaled to one: offsets in metres and angles in degrees differ
   // by many orders in their information.
-  const Eigen::VectorXd scale = n_ss.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd scaled = scale.asDiagonal() * n_ss * scale.asDiagonal();
+  const Eigen::MatrixXd n_xx = n_ss.topLeftCorner(estimated, estimated);
+  const Eigen::VectorXd scale = n_xx.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * n_xx * scale.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
   if (eigen.info() != Eigen::Success || !(eigen.eigenvalues()[0] > 1e-12)) return std::nullopt;
   const Eigen::MatrixXd inverse =
@@ -575,6 +624,14 @@ std::optional<ParameterCovariances> ParameterCovariance(Unknowns* u, const std::
   for (size_t a = 0; a < camera_free.size(); ++a)
     for (size_t b = 0; b < camera_free.size(); ++b)
       c.cameras(camera_free[a], camera_free[b]) = inverse(first_camera + a, first_camera + b);
+  c.stage_from_held_cameras = Eigen::MatrixXd::Zero(parameters, parameters);
+  if (held_cameras.empty()) return c;
+  const Eigen::MatrixXd considered =
+      ConsideredCovariance(inverse, n_ss.topRightCorner(estimated, reduced - estimated),
+                           held_cameras, held_camera_covariance);
+  for (size_t a = 0; a < free.size(); ++a)
+    for (size_t b = 0; b < free.size(); ++b)
+      c.stage_from_held_cameras(free[a], free[b]) = considered(a, b);
   return c;
 }
 
@@ -846,8 +903,9 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
       r.observation_sigma_px.push_back(image_sigma->Of(control[in.observations[i].point]) *
                                        relative_sigma[i]);
     r.rejected = static_cast<int>(in.observations.size()) - kept;
-    const std::optional<ParameterCovariances> covariance =
-        ParameterCovariance(&u, free, camera_free, &problem);
+    const std::optional<ParameterCovariances> covariance = ParameterCovariance(
+        &u, free, camera_free,
+        o.refine_cameras ? Eigen::MatrixXd() : RigCameraCovariance(in.calibration), &problem);
     if (!covariance) return Error{"rig adjustment: the covariance of the stage cannot be computed"};
     std::vector<std::string> reasons;
     const std::vector<int> named =
@@ -859,17 +917,27 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
     }
     r.rms_px = std::sqrt((sums.pixel_squares[0] + sums.pixel_squares[1]) / (2.0 * kept));
     r.image_sigma_px = image_sigma->sigma[sums.kept[0] > 0 ? 0 : 1];
-    const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, covariance->stage(i, i))); };
+    // The data's and the held cameras' shares: the undetermined are told by the data alone.
+    const Eigen::MatrixXd stage_covariance =
+        covariance->stage + covariance->stage_from_held_cameras;
+    const auto sigma_of = [&](int i) { return std::sqrt(std::max(0.0, stage_covariance(i, i))); };
     for (int s = 0; s < station_count; ++s) {
       const int x = LevellingParameter(s, 0);
       r.levelling_deg.emplace_back(u.Parameter(x), u.Parameter(x + 1));
       r.levelling_sigma_deg.emplace_back(sigma_of(x), sigma_of(x + 1));
     }
     StageVector stage = u.stage;
-    for (int i = 0; i < kStageParameterCount; ++i) r.sigma[i] = sigma_of(i);
+    const auto share_of = [&](int i) {
+      return std::sqrt(std::max(0.0, covariance->stage_from_held_cameras(i, i)));
+    };
+    for (int i = 0; i < kStageParameterCount; ++i) {
+      r.sigma[i] = sigma_of(i);
+      r.sigma_from_held_cameras[i] = share_of(i);
+    }
     for (int axis : {0, 1}) {
       stage[axis] = r.levelling_deg[0][axis];
       r.sigma[axis] = r.levelling_sigma_deg[0][axis];
+      r.sigma_from_held_cameras[axis] = share_of(LevellingParameter(0, axis));
     }
     r.stage = StageKinematicsOf(stage, in.calibration.stage);
     r.points = u.points;
@@ -878,6 +946,14 @@ Result<RigAdjustment> AdjustRig(const RigAdjustmentInput& in, const RigAdjustmen
                              o.refine_cameras ? covariance->cameras : Eigen::MatrixXd());
     return r;
   }
+}
+
+StageVector RigAdjustment::SigmaOfTheData() const {
+  StageVector data{};
+  for (int i = 0; i < kStageParameterCount; ++i)
+    data[i] = std::sqrt(std::max(
+        0.0, sigma[i] * sigma[i] - sigma_from_held_cameras[i] * sigma_from_held_cameras[i]));
+  return data;
 }
 
 Calibration RigAdjustment::Adjusted(const Calibration& given) const {

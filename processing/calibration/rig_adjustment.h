@@ -136,7 +136,14 @@ struct RigAdjustmentInput {
 
 struct RigAdjustment {
   StageKinematics stage;  // levelled as the first station
-  StageVector sigma{};    // a posteriori; 0 for a held parameter
+  // A posteriori; 0 for a held parameter. Held cameras are not exact: their calibration's
+  // covariance, carried through the adjustment, is in it; sigma_from_held_cameras is that share
+  // (sigma^2 = the data's^2 + the share's^2; 0 when the cameras are refined, whose errors are
+  // then unknowns, or their calibration states no precision).
+  StageVector sigma{};
+  StageVector sigma_from_held_cameras{};
+  // What the data alone leave: sqrt(sigma^2 - sigma_from_held_cameras^2).
+  StageVector SigmaOfTheData() const;
   // Each station's levelling and its sigma (deg, about L's X and Y).
   std::vector<Eigen::Vector2d> levelling_deg, levelling_sigma_deg;
   // The parameters held at their prior because the panorama does not determine them, with why.

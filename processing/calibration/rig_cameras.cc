@@ -21,19 +21,6 @@ constexpr std::array<int, 3> kBlockSize = {kIntrinsicsCount, kIntrinsicsCount,
 // Where calibration.yaml keeps each block's precision.
 constexpr std::array<const char*, 3> kBlockField = {"cameras.left", "cameras.right", "stereo"};
 
-// The calibration's covariance of the list, block-diagonal: calibrate camera/stereo keep no
-// covariance between the cameras and the pair.
-Eigen::MatrixXd PriorCovariance(const Calibration& c) {
-  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(kRigCameraParameterCount, kRigCameraParameterCount);
-  p.block(kBlockFirst[0], kBlockFirst[0], kIntrinsicsCount, kIntrinsicsCount) =
-      c.left_precision.covariance;
-  p.block(kBlockFirst[1], kBlockFirst[1], kIntrinsicsCount, kIntrinsicsCount) =
-      c.right_precision.covariance;
-  p.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount, kStereoParameterCount) =
-      c.stereo_precision.covariance;
-  return p;
-}
-
 // A block's free parameters observed with their covariance: r = L^-1 (x - x0), C = L L^T.
 class BlockPrior : public ceres::CostFunction {
  public:
@@ -86,6 +73,17 @@ BlockPrecision BlockPrecisionOf(const Eigen::MatrixXd& prior, int b) {
 
 }  // namespace
 
+Eigen::MatrixXd RigCameraCovariance(const Calibration& c) {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(kRigCameraParameterCount, kRigCameraParameterCount);
+  p.block(kBlockFirst[0], kBlockFirst[0], kIntrinsicsCount, kIntrinsicsCount) =
+      c.left_precision.covariance;
+  p.block(kBlockFirst[1], kBlockFirst[1], kIntrinsicsCount, kIntrinsicsCount) =
+      c.right_precision.covariance;
+  p.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount, kStereoParameterCount) =
+      c.stereo_precision.covariance;
+  return p;
+}
+
 RigCameraVector RigCameraVectorOf(const StereoRig& rig) {
   const RigCameraUnknowns u(rig);
   RigCameraVector v;
@@ -137,7 +135,7 @@ StereoRig RigCameraUnknowns::Rig(const StereoRig& start) const {
 }
 
 std::vector<int> RefinedCameraParameters(const Calibration& calibration) {
-  const Eigen::MatrixXd prior = PriorCovariance(calibration);
+  const Eigen::MatrixXd prior = RigCameraCovariance(calibration);
   std::vector<int> refined;
   for (int i = 0; i < kRigCameraParameterCount; ++i)
     if (prior(i, i) > 0.0) refined.push_back(i);
@@ -148,7 +146,7 @@ Status CheckCamerasRefinable(const Calibration& calibration) {
   const std::array<bool, 3> known = {calibration.left_precision.known,
                                      calibration.right_precision.known,
                                      calibration.stereo_precision.known};
-  const Eigen::MatrixXd prior = PriorCovariance(calibration);
+  const Eigen::MatrixXd prior = RigCameraCovariance(calibration);
   for (int b = 0; b < 3; ++b) {
     if (!known[b])
       return Error{std::string(kBlockField[b]) +
@@ -171,7 +169,7 @@ Status AddCameraPriors(const Calibration& calibration, bool refine, RigCameraUnk
     return {};
   }
   if (Status s = CheckCamerasRefinable(calibration); !s) return s;
-  const Eigen::MatrixXd prior = PriorCovariance(calibration);
+  const Eigen::MatrixXd prior = RigCameraCovariance(calibration);
   RigCameraUnknowns start(calibration.rig);
   const std::array<double*, 3> values = start.Blocks();
   for (int b = 0; b < 3; ++b) {

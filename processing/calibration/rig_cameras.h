@@ -2,10 +2,10 @@
 // The cameras in the rig adjustment (rig_adjustment.h): held by default; refined when the user
 // asks (issue 21). Refined, each camera's interior orientation and the stereo pair's relative
 // orientation are unknowns of the adjustment, observed by the calibration that gave them
-// (calibrate camera / stereo) with the covariance it reported. The stage's sigmas then carry
-// the cameras' errors, which held cameras leave out, and what the panoramas and a control
-// field show of the cameras refines them in turn. A parameter that calibration fixed (no
-// variance) stays fixed.
+// (calibrate camera / stereo) with the covariance it reported, and what the panoramas and a
+// control field show of the cameras refines them in turn. Held, their calibration's covariance
+// is carried into the stage's sigmas without the data refining them. A parameter that
+// calibration fixed (no variance) stays fixed.
 #include <ceres/jet.h>
 
 #include <Eigen/Core>
@@ -71,6 +71,10 @@ struct RigCameras {
   CameraPrecision left_precision, right_precision;
   StereoPrecision stereo_precision;
 };
+
+// The calibration's covariance of the list, block-diagonal (calibrate camera and calibrate
+// stereo keep none between the cameras and the pair); zero where it states no precision.
+Eigen::MatrixXd RigCameraCovariance(const Calibration& calibration);
 
 // The parameters of the list that are refined: those with a variance in `calibration`.
 std::vector<int> RefinedCameraParameters(const Calibration& calibration);

@@ -62,10 +62,12 @@ nlohmann::json RigCheckJson(const RigCheck& check, bool used) {
   const StageVector before = StageVectorOf(check.start), after = StageVectorOf(r.stage);
   nlohmann::json parameters = nlohmann::json::object();
   for (int i = 0; i < kStageParameterCount; ++i)
-    parameters[kStageParameterNames[i]] = {{"value", after[i]},
-                                           {"sigma", r.sigma[i]},
-                                           {"change", after[i] - before[i]},
-                                           {"held", r.sigma[i] == 0.0}};
+    parameters[kStageParameterNames[i]] = {
+        {"value", after[i]},
+        {"sigma", r.sigma[i]},
+        {"sigma_from_held_cameras", r.sigma_from_held_cameras[i]},
+        {"change", after[i] - before[i]},
+        {"held", r.sigma[i] == 0.0}};
   nlohmann::json j = {
       {"used", used},
       {"tie_points", check.tie_points},

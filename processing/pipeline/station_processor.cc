@@ -305,7 +305,10 @@ bool StationProcessor::CheckRigStep(StationInputs* in, StationWork* w, StepSumma
   if (check->after.within_2_sigma < RigCheck::kClosedShare)
     s->warnings.push_back("the seams do not close after the rig's self-calibration: " +
                           SeamsLine(check->after));
-  w->sight_tilt_sigma_deg = SightTiltSigmaDeg(check->adjustment.sigma);
+  // The data's share: where the tilt zero takes up a held camera's pitch error, the two turn
+  // the sight lines back against each other, so the cameras' share of the tilt zero's sigma is
+  // not an error of the sight lines.
+  w->sight_tilt_sigma_deg = SightTiltSigmaDeg(check->adjustment.SigmaOfTheData());
   Calibration refined = in->calibration;
   refined.stage = check->adjustment.stage;
   s->counts["largest_view_turn_deg"] = MoveToStage(refined, *images, in, w);

@@ -177,6 +177,14 @@ TEST(CalibrateCommand, ControlFieldSessionGivesTheTrueRigAndItsStage) {
   ASSERT_EQ(g["control_fields"].size(), 1u);
   EXPECT_GT(g["control_fields"][0]["targets"].get<int>(), 120);
   EXPECT_LT(g["control_fields"][0]["rms_px"].get<double>(), 0.1);
+  // The cameras held are this session's calibration, not exact: their covariance is carried
+  // into the offsets' sigmas, and report.json says how much of each sigma it is.
+  for (const char* offset : {"tilt_axis_offset_x_m", "rig_offset_y_m", "rig_offset_z_m"}) {
+    const auto& p = g["parameters"][offset];
+    const double share = p["sigma_from_held_cameras"].get<double>();
+    EXPECT_GT(share, 0.0) << offset;
+    EXPECT_LE(share, p["sigma"].get<double>()) << offset;
+  }
   const Result<Calibration> calibrated = LoadCalibrationYaml(out),
                             staged = LoadCalibrationYaml(rig_out);
   ASSERT_TRUE(calibrated.ok() && staged.ok());
