@@ -209,9 +209,10 @@ void AddErrors(const std::string& name, const StereoErrors& e, bool targets, ben
 // adjusted on the session's stage poses with the cameras just calibrated, the design stage the
 // start. Each camera's place in the field's frame against the truth's, and the stage's offsets
 // (in the tilted and pan frames, which the calibration's own definition of the rig frame does
-// not turn) against the truth in the estimate's gauge. With the cameras held, their errors are
-// not in the offsets' sigmas; refined (--refine-cameras), they are, though the adjustment
-// weighs the same target images that calibrated the cameras a second time.
+// not turn) against the truth in the estimate's gauge. With the cameras held, their
+// calibration's covariance is carried into the offsets' sigmas; refined (--refine-cameras),
+// their errors are unknowns of the adjustment, though it weighs the same target images that
+// calibrated the cameras a second time.
 struct FieldStageErrors {
   testing::CameraErrors cameras;  // the largest over the seeds
   double offset_m = 0.0;          // the largest over the seeds and the offsets determined
