@@ -533,9 +533,8 @@ std::optional<ParameterCovariances> ParameterCovariance(
   const int estimated = first_camera + static_cast<int>(camera_free.size());
   // Held cameras' columns follow, for their errors' share (ConsideredCovariance); Evaluate
   // differentiates only variable blocks.
-  const std::vector<CameraBlock> held_cameras = held_camera_covariance.size() > 0
-                                                    ? HeldCameraBlocks(u, problem)
-                                                    : std::vector<CameraBlock>();
+  const std::vector<CameraBlock> held_cameras =
+      held_camera_covariance.size() > 0 ? HeldCameraBlocks(u, problem) : std::vector<CameraBlock>();
   int reduced = estimated;
   for (const CameraBlock& b : held_cameras) {
     options.parameter_blocks.push_back(b.values);
