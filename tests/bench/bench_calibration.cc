@@ -250,7 +250,7 @@ void AdjustStageAtField(const sim::SimRig& rig, const sim::FieldSession& s, Fiel
   e->cameras.deg = std::max(e->cameras.deg, cameras.deg);
   e->cameras.m = std::max(e->cameras.m, cameras.m);
   const StageVector estimate = StageVectorOf(r.stage);
-  const StageVector truth = testing::TruthInTheEstimatesGauge(rig.truth.stage, r);
+  const StageVector truth = testing::TruthInTheEstimatesGauge(rig.truth, r);
   for (int i = 0; i < kStageParameterCount; ++i) {
     if (!testing::IsStageOffset(i) || r.sigma[i] == 0.0) continue;
     e->offset_m = std::max(e->offset_m, std::abs(estimate[i] - truth[i]));

@@ -44,14 +44,25 @@ inline CameraErrors FieldPlacementErrors(const Calibration& truth,
 
 inline bool IsStageOffset(int i) { return (i >= 4 && i <= 6) || (i >= 8 && i <= 10); }
 
-// The truth as the estimate's held parameters see it. The tilt zero and the rig's omega turn
-// the views about one axis, so with one of them held at another value than the truth the same
-// cameras have the other shifted alike and the rig's offset turned with them; the tilt axis's
-// and the rig's x offsets both lie along the tilt axis (to the skew's cosine).
-inline StageVector TruthInTheEstimatesGauge(const StageKinematics& truth, const RigAdjustment& r) {
-  StageVector t = StageVectorOf(truth);
-  const StageVector e = StageVectorOf(r.stage);
+// The truth as the estimate's rig frame and held parameters see it. Two calibrations lay the
+// rig frame S on the same cameras each its own way (X along its own baseline, Y near the
+// previous rig's: StereoRig::FromStereoCalibration, CalibrationOf), so the same cameras on the
+// same plate have rig rotations that differ by how the two S lie on them: the truth's rotation
+// is taken into the S of the cameras the adjustment used. Then the tilt zero and the rig's
+// omega turn the views about one axis, so with one of them held at another value than the
+// truth the same cameras have the other shifted alike and the rig's offset turned with them;
+// the tilt axis's and the rig's x offsets both lie along the tilt axis (to the skew's cosine).
+inline StageVector TruthInTheEstimatesGauge(const Calibration& truth_calibration,
+                                            const RigAdjustment& r) {
   constexpr int kTiltZero = 3, kTiltAxisX = 4, kRigX = 8, kRigOmega = 11;
+  StageVector t = StageVectorOf(truth_calibration.stage);
+  const Eigen::Matrix3d tilted_from_left =
+      RotationFromOpkDeg(truth_calibration.stage.rig_rotation_opk_deg) *
+      truth_calibration.rig.S_from_left;
+  const Eigen::Vector3d rig_rotation =
+      OpkDegFromRotation(tilted_from_left * r.cameras.rig.S_from_left.transpose());
+  for (int k = 0; k < 3; ++k) t[kRigOmega + k] = rig_rotation[k];
+  const StageVector e = StageVectorOf(r.stage);
   const double turn = r.sigma[kRigOmega] == 0.0   ? e[kRigOmega] - t[kRigOmega]
                       : r.sigma[kTiltZero] == 0.0 ? e[kTiltZero] - t[kTiltZero]
                                                   : 0.0;

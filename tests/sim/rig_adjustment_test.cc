@@ -428,7 +428,7 @@ TEST(RigAdjustment, AControlFieldGivesWhereEachCameraStands) {
   EXPECT_FALSE(Named(*r, "levelling_x_deg")) << "held as the field's, not undetermined";
   // Issue 21's targets: the tilt zero within 0.01 deg, the offsets within 2 mm.
   const StageVector estimate = StageVectorOf(r->stage);
-  const StageVector truth = TruthInTheEstimatesGauge(rig.truth.stage, *r);
+  const StageVector truth = TruthInTheEstimatesGauge(rig.truth, *r);
   for (int i = 2; i < kStageParameterCount; ++i) {
     if (r->sigma[i] == 0.0) continue;
     std::printf("  %-22s %+.5f +- %.5f (truth %+.5f)\n", kStageParameterNames[i], estimate[i],
@@ -448,7 +448,7 @@ TEST(RigAdjustment, SigmasAtAControlFieldAreHonestOverTenSeeds) {
     const Result<RigAdjustment> r = AdjustAtField(rig, ProjectFieldSession(rig, seed));
     ASSERT_TRUE(r.ok()) << r.error();
     const StageVector estimate = StageVectorOf(r->stage);
-    const StageVector truth = TruthInTheEstimatesGauge(rig.truth.stage, *r);
+    const StageVector truth = TruthInTheEstimatesGauge(rig.truth, *r);
     for (int i = 2; i < kStageParameterCount; ++i) {
       if (r->sigma[i] == 0.0) continue;
       const double ratio = (estimate[i] - truth[i]) / r->sigma[i];

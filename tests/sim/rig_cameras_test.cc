@@ -91,7 +91,7 @@ struct Ratios {
 void AddOffsets(const SimRig& rig, const RigAdjustment& r, Ratios* ratios,
                 bool of_the_data = false) {
   const StageVector estimate = StageVectorOf(r.stage);
-  const StageVector truth = TruthInTheEstimatesGauge(rig.truth.stage, r);
+  const StageVector truth = TruthInTheEstimatesGauge(rig.truth, r);
   for (int i = 0; i < kStageParameterCount; ++i)
     if (IsStageOffset(i) && r.sigma[i] > 0.0)
       ratios->Add(estimate[i] - truth[i], of_the_data ? r.SigmaOfTheData()[i] : r.sigma[i]);
@@ -179,10 +179,11 @@ TEST(RigCameras, RefinedTheStagesSigmasLieBetweenTheDatasAndTheCarriedCameras) {
     if (h->sigma[i] == 0.0 || r->sigma[i] == 0.0) continue;
     const double data = scale * h->SigmaOfTheData()[i], carried = h->sigma_from_held_cameras[i];
     const double widened = r->sigma[i] / data;
-    std::printf("%-22s sigma %.3g held (%.3g the data's, %.3g the cameras'), %.3g refined: x %.2f "
-                "a priori\n",
-                kStageParameterNames[i], h->sigma[i], h->SigmaOfTheData()[i], carried, r->sigma[i],
-                widened);
+    std::printf(
+        "%-22s sigma %.3g held (%.3g the data's, %.3g the cameras'), %.3g refined: x %.2f "
+        "a priori\n",
+        kStageParameterNames[i], h->sigma[i], h->SigmaOfTheData()[i], carried, r->sigma[i],
+        widened);
     EXPECT_GE(widened, 0.999) << kStageParameterNames[i];
     EXPECT_LE(r->sigma[i], 1.001 * std::hypot(data, carried)) << kStageParameterNames[i];
     if (!IsStageOffset(i)) continue;
