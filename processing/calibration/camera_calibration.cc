@@ -108,9 +108,9 @@ Eigen::Vector4d RelativeOrientation(const Pose6& right_from_left) {
   return {left_from_right.translation().norm(), opk_deg.x(), opk_deg.y(), opk_deg.z()};
 }
 
-// Its covariance by first-order propagation (central differences) from the adjustment's.
-Eigen::Matrix4d RelativeOrientationCovariance(const Pose6& pose,
-                                              const Eigen::Matrix<double, 6, 6>& covariance) {
+// Its derivative by the pose (central differences), for first-order propagation of the
+// adjustment's covariance.
+Eigen::Matrix<double, 4, 6> RelativeOrientationJacobian(const Pose6& pose) {
   Eigen::Matrix<double, 4, 6> jacobian;
   for (int j = 0; j < 6; ++j) {
     const double h = j < 3 ? 1e-7 : 1e-7 * std::max(1.0, std::abs(pose[j]));
@@ -118,7 +118,17 @@ Eigen::Matrix4d RelativeOrientationCovariance(const Pose6& pose,
     plus[j] += h, minus[j] -= h;
     jacobian.col(j) = (RelativeOrientation(plus) - RelativeOrientation(minus)) / (2.0 * h);
   }
-  return jacobian * covariance * jacobian.transpose();
+  return jacobian;
+}
+
+// The adjustment's joint covariance (both cameras' intrinsics, then the Pose6) with the pose's
+// columns carried into (baseline, omega, phi, kappa).
+Eigen::MatrixXd RigJointCovariance(const Pose6& pose, const Eigen::MatrixXd& joint) {
+  constexpr int kCameras = 2 * kIntrinsicCount;
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(kCameras + 4, kCameras + 6);
+  jacobian.topLeftCorner(kCameras, kCameras).setIdentity();
+  jacobian.bottomRightCorner(4, 6) = RelativeOrientationJacobian(pose);
+  return jacobian * joint * jacobian.transpose();
 }
 
 }  // namespace
@@ -168,8 +178,9 @@ Result<StereoCalibration> CalibrateStereo(const TargetViews& left, const TargetV
   const Pose6& pose = a.second_from_first;
   r.right_from_left = a.SecondFromFirst();
   const Eigen::Vector4d relative = RelativeOrientation(pose);
-  r.covariance = RelativeOrientationCovariance(pose, precision->RelativeCovariance());
   r.joint_covariance = precision->covariance;
+  r.rig_joint_covariance = RigJointCovariance(pose, r.joint_covariance);
+  r.covariance = r.rig_joint_covariance.bottomRightCorner<4, 4>();
   r.baseline = relative[0];
   r.baseline_sigma = std::sqrt(r.covariance(0, 0));
   r.angles_deg = relative.tail<3>();
@@ -204,7 +215,8 @@ Calibration CalibrationOf(const StereoCalibration& s, const std::optional<Calibr
   }
   cal.left_precision = PrecisionOf(s.left);
   cal.right_precision = PrecisionOf(s.right);
-  cal.stereo_precision = {true, s.baseline_sigma, s.angles_sigma_deg, s.covariance, s.rms_px};
+  cal.stereo_precision = {true,         s.baseline_sigma, s.angles_sigma_deg,
+                          s.covariance, s.rms_px,         s.rig_joint_covariance};
   return cal;
 }
 

@@ -118,6 +118,8 @@ struct StereoCalibration {
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
   // Of every parameter jointly: the left intrinsics, the right's, right_from_left as a Pose6.
   Eigen::MatrixXd joint_covariance;
+  // The same with (baseline, omega, phi, kappa) for the Pose6: StereoPrecision::joint_covariance.
+  Eigen::MatrixXd rig_joint_covariance;
   double rms_px = 0.0;  // over the measured points of both images
   double sigma0_px = 0.0;
   int observations = 0;

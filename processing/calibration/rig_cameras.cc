@@ -21,34 +21,50 @@ constexpr std::array<int, 3> kBlockSize = {kIntrinsicsCount, kIntrinsicsCount,
 // Where calibration.yaml keeps each block's precision.
 constexpr std::array<const char*, 3> kBlockField = {"cameras.left", "cameras.right", "stereo"};
 
-// A block's free parameters observed with their covariance: r = L^-1 (x - x0), C = L L^T.
-class BlockPrior : public ceres::CostFunction {
+// The cameras' free parameters observed jointly with their covariance: r = L^-1 (x - x0),
+// C = L L^T, over the parameter blocks in the problem (`first`: each block's first index in
+// the list; `free`: indices in the list, block by block).
+class CameraPrior : public ceres::CostFunction {
  public:
-  BlockPrior(std::vector<double> value, Eigen::MatrixXd whitening, std::vector<int> free, int size)
-      : value_(std::move(value)), whitening_(std::move(whitening)), free_(std::move(free)) {
+  CameraPrior(RigCameraVector value, Eigen::MatrixXd whitening, std::vector<int> first,
+              std::vector<int> free)
+      : value_(value),
+        whitening_(std::move(whitening)),
+        first_(std::move(first)),
+        free_(std::move(free)) {
     set_num_residuals(static_cast<int>(free_.size()));
-    mutable_parameter_block_sizes()->push_back(size);
+    for (int f : first_) mutable_parameter_block_sizes()->push_back(kBlockSize[CameraBlockOf(f)]);
   }
 
   bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
     const int n = static_cast<int>(free_.size());
     Eigen::VectorXd d(n);
-    for (int i = 0; i < n; ++i) d[i] = x[0][free_[i]] - value_[free_[i]];
+    for (int i = 0; i < n; ++i)
+      d[i] = x[BlockOf(free_[i])][free_[i] - First(free_[i])] - value_[free_[i]];
     Eigen::Map<Eigen::VectorXd>(residual, n) = whitening_ * d;
-    if (jacobians && jacobians[0]) {
-      const int size = parameter_block_sizes()[0];
+    if (!jacobians) return true;
+    for (size_t b = 0; b < first_.size(); ++b) {
+      if (!jacobians[b]) continue;
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> j(
-          jacobians[0], n, size);
+          jacobians[b], n, parameter_block_sizes()[b]);
       j.setZero();
-      for (int i = 0; i < n; ++i) j.col(free_[i]) = whitening_.col(i);
+      for (int i = 0; i < n; ++i)
+        if (BlockOf(free_[i]) == static_cast<int>(b))
+          j.col(free_[i] - first_[b]) = whitening_.col(i);
     }
     return true;
   }
 
  private:
-  std::vector<double> value_;
+  int BlockOf(int parameter) const {
+    for (size_t b = 0; b < first_.size(); ++b)
+      if (first_[b] == First(parameter)) return static_cast<int>(b);
+    return -1;
+  }
+  static int First(int parameter) { return kBlockFirst[CameraBlockOf(parameter)]; }
+  RigCameraVector value_;
   Eigen::MatrixXd whitening_;
-  std::vector<int> free_;
+  std::vector<int> first_, free_;
 };
 
 // A block's parameters with a variance (the free ones) and those without (held), and the
@@ -74,6 +90,8 @@ BlockPrecision BlockPrecisionOf(const Eigen::MatrixXd& prior, int b) {
 }  // namespace
 
 Eigen::MatrixXd RigCameraCovariance(const Calibration& c) {
+  if (c.stereo_precision.joint_covariance.rows() == kRigCameraParameterCount)
+    return c.stereo_precision.joint_covariance;
   Eigen::MatrixXd p = Eigen::MatrixXd::Zero(kRigCameraParameterCount, kRigCameraParameterCount);
   p.block(kBlockFirst[0], kBlockFirst[0], kIntrinsicsCount, kIntrinsicsCount) =
       c.left_precision.covariance;
@@ -157,6 +175,12 @@ Status CheckCamerasRefinable(const Calibration& calibration) {
       return Error{std::string(kBlockField[b]) +
                    ".covariance: not positive definite: the cameras cannot be refined"};
   }
+  const std::vector<int> free = RefinedCameraParameters(calibration);
+  Eigen::MatrixXd joint(free.size(), free.size());
+  for (size_t a = 0; a < free.size(); ++a)
+    for (size_t b = 0; b < free.size(); ++b) joint(a, b) = prior(free[a], free[b]);
+  if (Eigen::LLT<Eigen::MatrixXd>(joint).info() != Eigen::Success)
+    return Error{"stereo.joint_covariance: not positive definite: the cameras cannot be refined"};
   return {};
 }
 
@@ -170,25 +194,33 @@ Status AddCameraPriors(const Calibration& calibration, bool refine, RigCameraUnk
   }
   if (Status s = CheckCamerasRefinable(calibration); !s) return s;
   const Eigen::MatrixXd prior = RigCameraCovariance(calibration);
-  RigCameraUnknowns start(calibration.rig);
-  const std::array<double*, 3> values = start.Blocks();
+  // One prior over the blocks in the problem: the calibration's covariance joins them (a
+  // block the problem lacks is marginalised by leaving its rows out).
+  std::vector<double*> present;
+  std::vector<int> first, free;
   for (int b = 0; b < 3; ++b) {
     if (!problem->HasParameterBlock(blocks[b])) continue;
     const BlockPrecision p = BlockPrecisionOf(prior, b);
-    const std::vector<int>&free = p.free, &held = p.held;
-    if (free.empty()) {
+    if (p.free.empty()) {
       problem->SetParameterBlockConstant(blocks[b]);
       continue;
     }
-    const int n = static_cast<int>(free.size());
-    const Eigen::MatrixXd whitening = p.llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
-    problem->AddResidualBlock(
-        new BlockPrior(std::vector<double>(values[b], values[b] + kBlockSize[b]), whitening, free,
-                       kBlockSize[b]),
-        nullptr, blocks[b]);
-    if (!held.empty())
-      problem->SetManifold(blocks[b], new ceres::SubsetManifold(kBlockSize[b], held));
+    present.push_back(blocks[b]);
+    first.push_back(kBlockFirst[b]);
+    for (int i : p.free) free.push_back(kBlockFirst[b] + i);
+    if (!p.held.empty())
+      problem->SetManifold(blocks[b], new ceres::SubsetManifold(kBlockSize[b], p.held));
   }
+  if (present.empty()) return {};
+  const int n = static_cast<int>(free.size());
+  Eigen::MatrixXd covariance(n, n);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) covariance(a, b) = prior(free[a], free[b]);
+  const Eigen::LLT<Eigen::MatrixXd> llt(covariance);
+  problem->AddResidualBlock(
+      new CameraPrior(RigCameraVectorOf(calibration.rig),
+                      llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n)), first, free),
+      nullptr, present);
   return {};
 }
 
@@ -212,6 +244,7 @@ RigCameras RigCamerasOf(const Calibration& calibration, const RigCameraUnknowns&
   StereoPrecision& s = r.stereo_precision;
   s.covariance = covariance.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount,
                                   kStereoParameterCount);
+  s.joint_covariance = covariance;
   s.baseline_sigma_m = std::sqrt(std::max(0.0, s.covariance(0, 0)));
   for (int k = 0; k < 3; ++k)
     s.relative_sigma_deg[k] = std::sqrt(std::max(0.0, s.covariance(1 + k, 1 + k)));

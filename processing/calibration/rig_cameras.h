@@ -72,8 +72,8 @@ struct RigCameras {
   StereoPrecision stereo_precision;
 };
 
-// The calibration's covariance of the list, block-diagonal (calibrate camera and calibrate
-// stereo keep none between the cameras and the pair); zero where it states no precision.
+// The calibration's covariance of the list: the joint one calibrate stereo keeps, or without it
+// block-diagonal; zero where it states no precision.
 Eigen::MatrixXd RigCameraCovariance(const Calibration& calibration);
 
 // The parameters of the list that are refined: those with a variance in `calibration`.

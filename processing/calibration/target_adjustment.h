@@ -99,9 +99,6 @@ struct AdjustmentPrecision {
     return covariance.block<kIntrinsicCount, kIntrinsicCount>(kIntrinsicCount * camera,
                                                               kIntrinsicCount * camera);
   }
-  Eigen::Matrix<double, 6, 6> RelativeCovariance() const {
-    return covariance.bottomRightCorner<6, 6>();
-  }
 };
 
 // The starting point: for a camera without a given one, Zhang's closed form (OpenCV's

@@ -30,6 +30,13 @@ struct StereoPrecision {
   Eigen::Vector3d relative_sigma_deg = Eigen::Vector3d::Zero();  // right_relative_opk_deg
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // baseline_m, omega phi kappa (deg)
   double rms_px = 0.0;
+  // Of the cameras and the pair together, from the one adjustment that calibrated them: the
+  // left camera's parameters (CameraIntrinsics::kParameterNames), the right's, then baseline_m
+  // and right_relative_opk_deg; 24 x 24, its diagonal blocks the three covariances. Empty:
+  // unknown, the three taken as uncorrelated. A camera's principal point and the pair's angles
+  // move its rays almost alike, so their errors are strongly correlated: apart, the same
+  // sigmas allow combinations that no calibration of these images would give.
+  Eigen::MatrixXd joint_covariance;
 };
 
 struct Calibration {

@@ -128,7 +128,31 @@ StereoPrecision ParseStereoPrecision(YamlMap& m) {
   if (!p.covariance.isApprox(p.covariance.transpose(), 1e-9))
     m.Fail("covariance", "is not a symmetric matrix");
   p.rms_px = m.Double("rms_px", 0.0);
+  if (m.Has("joint_covariance")) {
+    constexpr int kJoint = 2 * kN + 4;
+    const std::vector<double> j = m.Doubles("joint_covariance", kJoint * kJoint);
+    p.joint_covariance =
+        Eigen::Map<const Eigen::Matrix<double, kJoint, kJoint, Eigen::RowMajor>>(j.data());
+    if (!p.joint_covariance.isApprox(p.joint_covariance.transpose(), 1e-9))
+      m.Fail("joint_covariance", "is not a symmetric matrix");
+  }
   return p;
+}
+
+// The joint covariance's diagonal blocks are the three covariances it joins.
+void CheckJointCovariance(const Calibration& cal, YamlMap& stereo) {
+  const Eigen::MatrixXd& j = cal.stereo_precision.joint_covariance;
+  if (j.size() == 0) return;
+  const auto same = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1e-300, b.cwiseAbs().maxCoeff());
+  };
+  if (!cal.left_precision.known || !cal.right_precision.known ||
+      !same(j.block(0, 0, kN, kN), cal.left_precision.covariance) ||
+      !same(j.block(kN, kN, kN, kN), cal.right_precision.covariance) ||
+      !same(j.block(2 * kN, 2 * kN, 4, 4), cal.stereo_precision.covariance))
+    stereo.Fail("joint_covariance",
+                "its diagonal blocks are not cameras.left.covariance, cameras.right.covariance "
+                "and stereo.covariance");
 }
 
 }  // namespace
@@ -146,6 +170,7 @@ Calibration ParseCalibration(YamlMap root) {
                         RotationFromOpkDeg(stereo.Vector3("left_rotation_opk_deg", {0, 0, 0}));
   cal.rig.left_from_right = RotationFromOpkDeg(stereo.Vector3("right_relative_opk_deg", {0, 0, 0}));
   if (version >= 2) cal.stereo_precision = ParseStereoPrecision(stereo);
+  CheckJointCovariance(cal, stereo);
   stereo.RejectUnknownKeys();
   if (std::string why; !cal.rig.Check(&why)) throw ConfigError(stereo.path() + ": " + why);
   if (root.Has("stage")) cal.stage = ParseStage(root.Map("stage"));
@@ -191,6 +216,10 @@ void EmitStereoPrecision(YAML::Emitter& out, const StereoPrecision& p) {
   const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> c = p.covariance;
   EmitDoubles(out, "covariance", c.data(), 16);
   out << YAML::Key << "rms_px" << YAML::Value << p.rms_px;
+  if (p.joint_covariance.size() == 0) return;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> j =
+      p.joint_covariance;
+  EmitDoubles(out, "joint_covariance", j.data(), static_cast<int>(j.size()));
 }
 
 void EmitCamera(YAML::Emitter& out, const char* name, const CameraIntrinsics& c,

@@ -81,8 +81,8 @@ TEST(CalibrationYaml, RoundTripsThePrecisionOfACalibration) {
       cal.left_precision.covariance(i, j) = 1e-4 * (i == j ? 2.0 : 0.5) / (1 + i + j);
   }
   cal.left_precision.rms_px = 0.21;
-  cal.stereo_precision = {
-      true, 1.5e-4, {0.002, 0.003, 0.001}, Eigen::Matrix4d::Identity() * 1e-6, 0.25};
+  cal.stereo_precision = {true, 1.5e-4, {0.002, 0.003, 0.001}, Eigen::Matrix4d::Identity() * 1e-6,
+                          0.25, {}};
   ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "cal.yaml").ok());
   const Result<Calibration> back = LoadCalibrationYaml(dir / "cal.yaml");
   ASSERT_TRUE(back.ok()) << back.error();
@@ -95,6 +95,36 @@ TEST(CalibrationYaml, RoundTripsThePrecisionOfACalibration) {
   EXPECT_EQ(back->stereo_precision.relative_sigma_deg, cal.stereo_precision.relative_sigma_deg);
   EXPECT_EQ(back->stereo_precision.covariance, cal.stereo_precision.covariance);
   ExpectSameCamera(back->rig.left, cal.rig.left);
+}
+
+// The cameras' and the pair's covariance jointly (calibrate stereo's one adjustment): kept
+// whole, its diagonal blocks the three covariances; one that contradicts them is refused.
+TEST(CalibrationYaml, RoundTripsTheJointCovarianceAndChecksItsBlocks) {
+  testing::TempDir dir;
+  constexpr int kN = CameraIntrinsics::kNumParameters, kJoint = 2 * kN + 4;
+  Calibration cal = Example();
+  Eigen::MatrixXd joint = Eigen::MatrixXd::Zero(kJoint, kJoint);
+  for (int i = 0; i < kJoint; ++i)
+    for (int j = 0; j < kJoint; ++j)
+      joint(i, j) = 1e-6 * (i == j ? 4.0 : 1.0 / (1 + std::abs(i - j)));
+  cal.left_precision.known = cal.right_precision.known = cal.stereo_precision.known = true;
+  cal.left_precision.covariance = joint.block(0, 0, kN, kN);
+  cal.right_precision.covariance = joint.block(kN, kN, kN, kN);
+  cal.stereo_precision.covariance = joint.block(2 * kN, 2 * kN, 4, 4);
+  cal.stereo_precision.joint_covariance = joint;
+  ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "cal.yaml").ok());
+  const Result<Calibration> back = LoadCalibrationYaml(dir / "cal.yaml");
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(back->stereo_precision.joint_covariance, joint);
+
+  cal.right_precision.covariance(0, 0) *= 2.0;
+  ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "cal.yaml").ok());
+  const Result<Calibration> contradicted = LoadCalibrationYaml(dir / "cal.yaml");
+  ASSERT_FALSE(contradicted.ok());
+  EXPECT_NE(contradicted.error().find("stereo.joint_covariance: its diagonal blocks are not"),
+            std::string::npos)
+      << contradicted.error();
+  EXPECT_NE(contradicted.error().find("cal.yaml"), std::string::npos) << contradicted.error();
 }
 
 TEST(CalibrationYaml, PrecisionIsCheckedAndBelongsToSchemaTwo) {
