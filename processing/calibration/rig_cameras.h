@@ -2,10 +2,10 @@
 // The cameras in the rig adjustment (rig_adjustment.h): held by default; refined when the user
 // asks (issue 21). Refined, each camera's interior orientation and the stereo pair's relative
 // orientation are unknowns of the adjustment, observed by the calibration that gave them
-// (calibrate camera / stereo) with the covariance it reported, and what the panoramas and a
-// control field show of the cameras refines them in turn. Held, their calibration's covariance
-// is carried into the stage's sigmas without the data refining them. A parameter that
-// calibration fixed (no variance) stays fixed.
+// (calibrate camera / stereo) with the covariance it reported (RigCameraCovariance: joint where
+// calibrate stereo kept it), and what the panoramas and a control field show of the cameras
+// refines them in turn. Held, their calibration's covariance is carried into the stage's sigmas
+// without the data refining them. A parameter that calibration fixed (no variance) stays fixed.
 #include <ceres/jet.h>
 
 #include <Eigen/Core>
@@ -83,9 +83,9 @@ std::vector<int> RefinedCameraParameters(const Calibration& calibration);
 // names the calibration file's field.
 Status CheckCamerasRefinable(const Calibration& calibration);
 
-// Held: the blocks constant. Refined: each block observed by its calibration; an error when
-// the calibration carries no precision (design values) or its covariance is not positive
-// definite.
+// Held: the blocks constant. Refined: the blocks in the problem observed together by their
+// calibration (one prior, RigCameraCovariance); an error when the calibration carries no
+// precision (design values) or its covariance is not positive definite.
 Status AddCameraPriors(const Calibration& calibration, bool refine, RigCameraUnknowns* u,
                        ceres::Problem* problem);
 
