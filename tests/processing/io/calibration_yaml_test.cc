@@ -125,6 +125,18 @@ TEST(CalibrationYaml, RoundTripsTheJointCovarianceAndChecksItsBlocks) {
             std::string::npos)
       << contradicted.error();
   EXPECT_NE(contradicted.error().find("cal.yaml"), std::string::npos) << contradicted.error();
+
+  std::ofstream(dir / "short.yaml")
+      << "schema_version: 2\ncameras:\n  left: {width_px: 10, height_px: 10, "
+         "principal_distance_px: 10}\n  right: {width_px: 10, height_px: 10, "
+         "principal_distance_px: 10}\nstereo: {baseline_m: 0.5, sigma: {baseline_m: 0.001}, "
+         "covariance: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], joint_covariance: [1, "
+         "2]}\n";
+  const Result<Calibration> short_joint = LoadCalibrationYaml(dir / "short.yaml");
+  ASSERT_FALSE(short_joint.ok());
+  EXPECT_NE(short_joint.error().find("stereo.joint_covariance: must be a list of 576"),
+            std::string::npos)
+      << short_joint.error();
 }
 
 TEST(CalibrationYaml, PrecisionIsCheckedAndBelongsToSchemaTwo) {
