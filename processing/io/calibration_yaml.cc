@@ -113,7 +113,7 @@ int SchemaVersion(YamlMap& root) {
 }
 
 // sigma: {baseline_m: .., right_relative_opk_deg: [..]}, covariance: [4 x 4], rms_px.
-StereoPrecision ParseStereoPrecision(YamlMap& m) {
+StereoPrecision ParseStereoPrecision(YamlMap& m, int version) {
   StereoPrecision p;
   if (!m.Has("sigma")) return p;
   p.known = true;
@@ -128,7 +128,8 @@ StereoPrecision ParseStereoPrecision(YamlMap& m) {
   if (!p.covariance.isApprox(p.covariance.transpose(), 1e-9))
     m.Fail("covariance", "is not a symmetric matrix");
   p.rms_px = m.Double("rms_px", 0.0);
-  if (m.Has("joint_covariance")) {
+  // Schema 2 leaves it unread: RejectUnknownKeys names it.
+  if (version >= 3 && m.Has("joint_covariance")) {
     constexpr int kJoint = 2 * kN + 4;
     const std::vector<double> j = m.Doubles("joint_covariance", kJoint * kJoint);
     p.joint_covariance =
@@ -169,7 +170,7 @@ Calibration ParseCalibration(YamlMap root) {
   cal.rig.S_from_left = StereoRig::NominalSFromCamera() *
                         RotationFromOpkDeg(stereo.Vector3("left_rotation_opk_deg", {0, 0, 0}));
   cal.rig.left_from_right = RotationFromOpkDeg(stereo.Vector3("right_relative_opk_deg", {0, 0, 0}));
-  if (version >= 2) cal.stereo_precision = ParseStereoPrecision(stereo);
+  if (version >= 2) cal.stereo_precision = ParseStereoPrecision(stereo, version);
   CheckJointCovariance(cal, stereo);
   stereo.RejectUnknownKeys();
   if (std::string why; !cal.rig.Check(&why)) throw ConfigError(stereo.path() + ": " + why);
@@ -247,7 +248,11 @@ std::string CalibrationToYaml(const Calibration& cal) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
+  // The lowest version that holds it, so that builds before the joint covariance read the rest.
+  const int version = cal.stereo_precision.known && cal.stereo_precision.joint_covariance.size() > 0
+                          ? kCalibrationSchemaVersion
+                          : 2;
+  out << YAML::Key << "schema_version" << YAML::Value << version;
   out << YAML::Key << "cameras" << YAML::Value << YAML::BeginMap;
   EmitCamera(out, "left", cal.rig.left, cal.left_precision);
   EmitCamera(out, "right", cal.rig.right, cal.right_precision);
@@ -283,7 +288,7 @@ std::string CameraCalibrationToYaml(const CameraIntrinsics& camera,
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaVersion;
+  out << YAML::Key << "schema_version" << YAML::Value << 2;
   EmitCamera(out, "camera", camera, precision);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

@@ -1,9 +1,10 @@
 #pragma once
 // calibration.yaml: the stereo rig and stage kinematics, the file `process --calibration`
-// reads, the simulator writes as truth, and `calibrate` writes. Schema (version 2; version 1
-// is the same without the precision blocks, and still read):
+// reads, the simulator writes as truth, and `calibrate` writes. Schema (version 3; version 2
+// is the same without stereo.joint_covariance, version 1 without the precision blocks; both
+// still read, and a file is written as the lowest version that holds what it carries):
 //
-//   schema_version: 2
+//   schema_version: 3
 //   cameras:
 //     left:                           # and right:, same fields
 //       width_px: 1392
@@ -23,6 +24,10 @@
 //     sigma: {baseline_m: 1e-4, right_relative_opk_deg: [0.002, 0.003, 0.001]}  # optional
 //     covariance: [16 numbers]           # of baseline_m, omega phi kappa (deg)
 //     rms_px: 0.25                       # over both images
+//     joint_covariance: [576 numbers]    # optional (schema 3): both cameras and the pair
+//                                        #   together, 24 x 24 (the left's ten, the right's,
+//                                        #   then the four above); its diagonal blocks are the
+//                                        #   three covariances
 //   stage:                               # optional; every field defaults to the ideal stage
 //     height_above_mark_m: 1.5           # L's origin: the instrument height taped to the tilt
 //                                        #   axis, less tilt_axis_offset_m's z
@@ -42,7 +47,7 @@
 
 namespace ts {
 
-inline constexpr int kCalibrationSchemaVersion = 2;
+inline constexpr int kCalibrationSchemaVersion = 3;
 
 // Errors: "FILE: field.path: problem".
 Result<Calibration> LoadCalibrationYaml(const std::string& file);
@@ -55,7 +60,7 @@ std::string CalibrationToYaml(const Calibration& calibration);
 Status SaveCalibrationYaml(const Calibration& calibration, const std::string& file);
 
 // One camera's calibration (`calibrate camera`): the fields of cameras.left above, with its
-// precision, under `camera:`.
+// precision, under `camera:` (schema 2).
 //   schema_version: 2
 //   camera: {width_px: 640, ..., sigma: {...}, covariance: [...], rms_px: 0.26}
 std::string CameraCalibrationToYaml(const CameraIntrinsics& camera,

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "processing/geometry/rotation.h"
+#include "processing/io/atomic_file.h"
 #include "tests/common/temp_dir.h"
 
 namespace ts {
@@ -127,7 +128,7 @@ TEST(CalibrationYaml, RoundTripsTheJointCovarianceAndChecksItsBlocks) {
   EXPECT_NE(contradicted.error().find("cal.yaml"), std::string::npos) << contradicted.error();
 
   std::ofstream(dir / "short.yaml")
-      << "schema_version: 2\ncameras:\n  left: {width_px: 10, height_px: 10, "
+      << "schema_version: 3\ncameras:\n  left: {width_px: 10, height_px: 10, "
          "principal_distance_px: 10}\n  right: {width_px: 10, height_px: 10, "
          "principal_distance_px: 10}\nstereo: {baseline_m: 0.5, sigma: {baseline_m: 0.001}, "
          "covariance: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], joint_covariance: [1, "
@@ -137,6 +138,25 @@ TEST(CalibrationYaml, RoundTripsTheJointCovarianceAndChecksItsBlocks) {
   EXPECT_NE(short_joint.error().find("stereo.joint_covariance: must be a list of 576"),
             std::string::npos)
       << short_joint.error();
+
+  // Written as schema 3, the lowest that holds it; without it, as schema 2 (builds before the
+  // joint covariance read it). Schema 2 does not know the key.
+  const auto ReadFile = [](const std::string& file) {
+    const Result<std::string> text = ReadWholeFile(file);
+    EXPECT_TRUE(text.ok()) << file;
+    return text.ok() ? *text : std::string();
+  };
+  EXPECT_NE(ReadFile(dir / "cal.yaml").find("schema_version: 3"), std::string::npos);
+  cal.stereo_precision.joint_covariance.resize(0, 0);
+  ASSERT_TRUE(SaveCalibrationYaml(cal, dir / "plain.yaml").ok());
+  EXPECT_NE(ReadFile(dir / "plain.yaml").find("schema_version: 2"), std::string::npos);
+  std::string two = ReadFile(dir / "short.yaml");
+  two.replace(two.find("schema_version: 3"), 17, "schema_version: 2");
+  std::ofstream(dir / "two.yaml") << two;
+  const Result<Calibration> in_two = LoadCalibrationYaml(dir / "two.yaml");
+  ASSERT_FALSE(in_two.ok());
+  EXPECT_NE(in_two.error().find("stereo.joint_covariance: unknown key"), std::string::npos)
+      << in_two.error();
 }
 
 TEST(CalibrationYaml, PrecisionIsCheckedAndBelongsToSchemaTwo) {
