@@ -469,34 +469,31 @@ struct ParameterCovariances {
   Eigen::MatrixXd stage, cameras, stage_from_held_cameras;
 };
 
-// The camera blocks held in the problem, each with its first column in the list
-// (rig_cameras.h's) and its size.
-struct CameraBlock {
-  double* values;
-  int first, size;
+// The camera blocks held in the problem, and the list's indices (rig_cameras.h's) of their
+// parameters in the order of their columns.
+struct HeldCameras {
+  std::vector<double*> blocks;
+  std::vector<int> parameters;
 };
-std::vector<CameraBlock> HeldCameraBlocks(Unknowns* u, ceres::Problem* problem) {
-  std::vector<CameraBlock> held;
+HeldCameras HeldCameraBlocks(Unknowns* u, ceres::Problem* problem) {
+  HeldCameras held;
   const std::array<double*, 3> blocks = u->cameras.Blocks();
-  for (int b = 0; b < 3; ++b)
-    if (problem->HasParameterBlock(blocks[b]) && problem->IsParameterBlockConstant(blocks[b]))
-      held.push_back({blocks[b], b * CameraIntrinsics::kNumParameters,
-                      b < 2 ? CameraIntrinsics::kNumParameters : kStereoParameterCount});
+  for (int b = 0; b < 3; ++b) {
+    if (!problem->HasParameterBlock(blocks[b]) || !problem->IsParameterBlockConstant(blocks[b]))
+      continue;
+    held.blocks.push_back(blocks[b]);
+    for (int i = 0; i < kCameraBlockSize[b]; ++i)
+      held.parameters.push_back(kCameraBlockFirst[b] + i);
+  }
   return held;
 }
 
 // Held cameras are not exact: a calibration's error dc moves the stage's estimate by
 // dx = -N_xx^-1 N_xc dc, which the data's covariance N_xx^-1 leaves out. With dc's covariance
-// C (the calibration's, `held_covariance`), the stage's gains K C K^T, K = N_xx^-1 N_xc: the
-// "consider" covariance of a parameter held at an uncertain value.
+// C (the calibration's), the stage's gains K C K^T, K = N_xx^-1 N_xc: the "consider"
+// covariance of a parameter held at an uncertain value.
 Eigen::MatrixXd ConsideredCovariance(const Eigen::MatrixXd& inverse, const Eigen::MatrixXd& n_xc,
-                                     const std::vector<CameraBlock>& held,
-                                     const Eigen::MatrixXd& held_covariance) {
-  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n_xc.cols(), n_xc.cols());
-  for (int a = 0, ca = 0; a < static_cast<int>(held.size()); ca += held[a++].size)
-    for (int b = 0, cb = 0; b < static_cast<int>(held.size()); cb += held[b++].size)
-      c.block(ca, cb, held[a].size, held[b].size) =
-          held_covariance.block(held[a].first, held[b].first, held[a].size, held[b].size);
+                                     const Eigen::MatrixXd& c) {
   const Eigen::MatrixXd k = inverse * n_xc;
   return k * c * k.transpose();
 }
@@ -533,14 +530,13 @@ std::optional<ParameterCovariances> ParameterCovariance(
   const int estimated = first_camera + static_cast<int>(camera_free.size());
   // Held cameras' columns follow, for their errors' share (ConsideredCovariance); Evaluate
   // differentiates only variable blocks.
-  const std::vector<CameraBlock> held_cameras =
-      held_camera_covariance.size() > 0 ? HeldCameraBlocks(u, problem) : std::vector<CameraBlock>();
-  int reduced = estimated;
-  for (const CameraBlock& b : held_cameras) {
-    options.parameter_blocks.push_back(b.values);
-    problem->SetParameterBlockVariable(b.values);
-    reduced += b.size;
+  const HeldCameras held_cameras =
+      held_camera_covariance.size() > 0 ? HeldCameraBlocks(u, problem) : HeldCameras();
+  for (double* block : held_cameras.blocks) {
+    options.parameter_blocks.push_back(block);
+    problem->SetParameterBlockVariable(block);
   }
+  const int reduced = estimated + static_cast<int>(held_cameras.parameters.size());
   // A point whose observations were all rejected has left the problem.
   std::vector<int> column_point;
   for (size_t p = 0; p < u->points.size(); ++p)
@@ -551,7 +547,7 @@ std::optional<ParameterCovariances> ParameterCovariance(
   options.apply_loss_function = true;
   ceres::CRSMatrix j;
   const bool evaluated = problem->Evaluate(options, nullptr, nullptr, nullptr, &j);
-  for (const CameraBlock& b : held_cameras) problem->SetParameterBlockConstant(b.values);
+  for (double* block : held_cameras.blocks) problem->SetParameterBlockConstant(block);
   if (!evaluated) return std::nullopt;
   // Each row holds at most one point's columns: the normal matrix's blocks gathered per point,
   // then the points eliminated (Schur complement).
@@ -624,10 +620,11 @@ std::optional<ParameterCovariances> ParameterCovariance(
     for (size_t b = 0; b < camera_free.size(); ++b)
       c.cameras(camera_free[a], camera_free[b]) = inverse(first_camera + a, first_camera + b);
   c.stage_from_held_cameras = Eigen::MatrixXd::Zero(parameters, parameters);
-  if (held_cameras.empty()) return c;
+  if (held_cameras.blocks.empty()) return c;
+  const std::vector<int>& held = held_cameras.parameters;
   const Eigen::MatrixXd considered =
       ConsideredCovariance(inverse, n_ss.topRightCorner(estimated, reduced - estimated),
-                           held_cameras, held_camera_covariance);
+                           held_camera_covariance(held, held));
   for (size_t a = 0; a < free.size(); ++a)
     for (size_t b = 0; b < free.size(); ++b)
       c.stage_from_held_cameras(free[a], free[b]) = considered(a, b);

@@ -14,10 +14,6 @@ namespace {
 
 constexpr int kIntrinsicsCount = CameraIntrinsics::kNumParameters;
 
-// First index of each block in the list, and its size.
-constexpr std::array<int, 3> kBlockFirst = {0, kIntrinsicsCount, 2 * kIntrinsicsCount};
-constexpr std::array<int, 3> kBlockSize = {kIntrinsicsCount, kIntrinsicsCount,
-                                           kStereoParameterCount};
 // Where calibration.yaml keeps each block's precision.
 constexpr std::array<const char*, 3> kBlockField = {"cameras.left", "cameras.right", "stereo"};
 
@@ -33,7 +29,8 @@ class CameraPrior : public ceres::CostFunction {
         first_(std::move(first)),
         free_(std::move(free)) {
     set_num_residuals(static_cast<int>(free_.size()));
-    for (int f : first_) mutable_parameter_block_sizes()->push_back(kBlockSize[CameraBlockOf(f)]);
+    for (int f : first_)
+      mutable_parameter_block_sizes()->push_back(kCameraBlockSize[CameraBlockOf(f)]);
   }
 
   bool Evaluate(double const* const* x, double* residual, double** jacobians) const override {
@@ -61,7 +58,7 @@ class CameraPrior : public ceres::CostFunction {
       if (first_[b] == First(parameter)) return static_cast<int>(b);
     return -1;
   }
-  static int First(int parameter) { return kBlockFirst[CameraBlockOf(parameter)]; }
+  static int First(int parameter) { return kCameraBlockFirst[CameraBlockOf(parameter)]; }
   RigCameraVector value_;
   Eigen::MatrixXd whitening_;
   std::vector<int> first_, free_;
@@ -76,13 +73,14 @@ struct BlockPrecision {
 
 BlockPrecision BlockPrecisionOf(const Eigen::MatrixXd& prior, int b) {
   BlockPrecision p;
-  for (int i = 0; i < kBlockSize[b]; ++i)
-    (prior(kBlockFirst[b] + i, kBlockFirst[b] + i) > 0.0 ? p.free : p.held).push_back(i);
+  for (int i = 0; i < kCameraBlockSize[b]; ++i)
+    (prior(kCameraBlockFirst[b] + i, kCameraBlockFirst[b] + i) > 0.0 ? p.free : p.held)
+        .push_back(i);
   const int n = static_cast<int>(p.free.size());
   Eigen::MatrixXd covariance(n, n);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < n; ++k)
-      covariance(i, k) = prior(kBlockFirst[b] + p.free[i], kBlockFirst[b] + p.free[k]);
+      covariance(i, k) = prior(kCameraBlockFirst[b] + p.free[i], kCameraBlockFirst[b] + p.free[k]);
   p.llt.compute(covariance);
   return p;
 }
@@ -93,21 +91,21 @@ Eigen::MatrixXd RigCameraCovariance(const Calibration& c) {
   if (c.stereo_precision.joint_covariance.rows() == kRigCameraParameterCount)
     return c.stereo_precision.joint_covariance;
   Eigen::MatrixXd p = Eigen::MatrixXd::Zero(kRigCameraParameterCount, kRigCameraParameterCount);
-  p.block(kBlockFirst[0], kBlockFirst[0], kIntrinsicsCount, kIntrinsicsCount) =
+  p.block(kCameraBlockFirst[0], kCameraBlockFirst[0], kIntrinsicsCount, kIntrinsicsCount) =
       c.left_precision.covariance;
-  p.block(kBlockFirst[1], kBlockFirst[1], kIntrinsicsCount, kIntrinsicsCount) =
+  p.block(kCameraBlockFirst[1], kCameraBlockFirst[1], kIntrinsicsCount, kIntrinsicsCount) =
       c.right_precision.covariance;
-  p.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount, kStereoParameterCount) =
-      c.stereo_precision.covariance;
+  p.block(kCameraBlockFirst[2], kCameraBlockFirst[2], kStereoParameterCount,
+          kStereoParameterCount) = c.stereo_precision.covariance;
   return p;
 }
 
 RigCameraVector RigCameraVectorOf(const StereoRig& rig) {
   const RigCameraUnknowns u(rig);
   RigCameraVector v;
-  std::copy(u.intrinsics[0].begin(), u.intrinsics[0].end(), v.begin() + kBlockFirst[0]);
-  std::copy(u.intrinsics[1].begin(), u.intrinsics[1].end(), v.begin() + kBlockFirst[1]);
-  std::copy(u.stereo.begin(), u.stereo.end(), v.begin() + kBlockFirst[2]);
+  std::copy(u.intrinsics[0].begin(), u.intrinsics[0].end(), v.begin() + kCameraBlockFirst[0]);
+  std::copy(u.intrinsics[1].begin(), u.intrinsics[1].end(), v.begin() + kCameraBlockFirst[1]);
+  std::copy(u.stereo.begin(), u.stereo.end(), v.begin() + kCameraBlockFirst[2]);
   return v;
 }
 
@@ -115,7 +113,7 @@ std::string RigCameraParameterName(int parameter) {
   static constexpr std::array<const char*, kStereoParameterCount> kStereoNames = {
       "baseline_m", "right_relative_omega_deg", "right_relative_phi_deg",
       "right_relative_kappa_deg"};
-  const int block = CameraBlockOf(parameter), k = parameter - kBlockFirst[block];
+  const int block = CameraBlockOf(parameter), k = parameter - kCameraBlockFirst[block];
   if (block == 2) return std::string("stereo.") + kStereoNames[k];
   return std::string(block == 0 ? "left." : "right.") + CameraIntrinsics::kParameterNames[k];
 }
@@ -124,12 +122,12 @@ RigCameraVector RigCameraSigmas(const RigCameras& cameras) {
   RigCameraVector sigma{};
   if (!cameras.refined) return sigma;
   std::copy(cameras.left_precision.sigma.begin(), cameras.left_precision.sigma.end(),
-            sigma.begin() + kBlockFirst[0]);
+            sigma.begin() + kCameraBlockFirst[0]);
   std::copy(cameras.right_precision.sigma.begin(), cameras.right_precision.sigma.end(),
-            sigma.begin() + kBlockFirst[1]);
-  sigma[kBlockFirst[2]] = cameras.stereo_precision.baseline_sigma_m;
+            sigma.begin() + kCameraBlockFirst[1]);
+  sigma[kCameraBlockFirst[2]] = cameras.stereo_precision.baseline_sigma_m;
   for (int k = 0; k < 3; ++k)
-    sigma[kBlockFirst[2] + 1 + k] = cameras.stereo_precision.relative_sigma_deg[k];
+    sigma[kCameraBlockFirst[2] + 1 + k] = cameras.stereo_precision.relative_sigma_deg[k];
   return sigma;
 }
 
@@ -176,10 +174,7 @@ Status CheckCamerasRefinable(const Calibration& calibration) {
                    ".covariance: not positive definite: the cameras cannot be refined"};
   }
   const std::vector<int> free = RefinedCameraParameters(calibration);
-  Eigen::MatrixXd joint(free.size(), free.size());
-  for (size_t a = 0; a < free.size(); ++a)
-    for (size_t b = 0; b < free.size(); ++b) joint(a, b) = prior(free[a], free[b]);
-  if (Eigen::LLT<Eigen::MatrixXd>(joint).info() != Eigen::Success)
+  if (Eigen::LLT<Eigen::MatrixXd>(prior(free, free)).info() != Eigen::Success)
     return Error{"stereo.joint_covariance: not positive definite: the cameras cannot be refined"};
   return {};
 }
@@ -206,17 +201,14 @@ Status AddCameraPriors(const Calibration& calibration, bool refine, RigCameraUnk
       continue;
     }
     present.push_back(blocks[b]);
-    first.push_back(kBlockFirst[b]);
-    for (int i : p.free) free.push_back(kBlockFirst[b] + i);
+    first.push_back(kCameraBlockFirst[b]);
+    for (int i : p.free) free.push_back(kCameraBlockFirst[b] + i);
     if (!p.held.empty())
-      problem->SetManifold(blocks[b], new ceres::SubsetManifold(kBlockSize[b], p.held));
+      problem->SetManifold(blocks[b], new ceres::SubsetManifold(kCameraBlockSize[b], p.held));
   }
   if (present.empty()) return {};
   const int n = static_cast<int>(free.size());
-  Eigen::MatrixXd covariance(n, n);
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) covariance(a, b) = prior(free[a], free[b]);
-  const Eigen::LLT<Eigen::MatrixXd> llt(covariance);
+  const Eigen::LLT<Eigen::MatrixXd> llt(prior(free, free));
   problem->AddResidualBlock(
       new CameraPrior(RigCameraVectorOf(calibration.rig),
                       llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n)), first, free),
@@ -236,13 +228,13 @@ RigCameras RigCamerasOf(const Calibration& calibration, const RigCameraUnknowns&
   r.rig = u.Rig(calibration.rig);
   for (int side = 0; side < 2; ++side) {
     CameraPrecision& p = side == 0 ? r.left_precision : r.right_precision;
-    p.covariance =
-        covariance.block(kBlockFirst[side], kBlockFirst[side], kIntrinsicsCount, kIntrinsicsCount);
+    p.covariance = covariance.block(kCameraBlockFirst[side], kCameraBlockFirst[side],
+                                    kIntrinsicsCount, kIntrinsicsCount);
     for (int i = 0; i < kIntrinsicsCount; ++i)
       p.sigma[i] = std::sqrt(std::max(0.0, p.covariance(i, i)));
   }
   StereoPrecision& s = r.stereo_precision;
-  s.covariance = covariance.block(kBlockFirst[2], kBlockFirst[2], kStereoParameterCount,
+  s.covariance = covariance.block(kCameraBlockFirst[2], kCameraBlockFirst[2], kStereoParameterCount,
                                   kStereoParameterCount);
   s.joint_covariance = covariance;
   s.baseline_sigma_m = std::sqrt(std::max(0.0, s.covariance(0, 0)));

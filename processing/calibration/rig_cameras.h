@@ -46,6 +46,11 @@ std::string RigCameraParameterName(int parameter);
 inline int CameraBlockOf(int parameter) {
   return std::min(2, parameter / CameraIntrinsics::kNumParameters);
 }
+// Each block's first index in the list, and its size.
+inline constexpr std::array<int, 3> kCameraBlockFirst = {0, CameraIntrinsics::kNumParameters,
+                                                         2 * CameraIntrinsics::kNumParameters};
+inline constexpr std::array<int, 3> kCameraBlockSize = {
+    CameraIntrinsics::kNumParameters, CameraIntrinsics::kNumParameters, kStereoParameterCount};
 
 struct RigCameraUnknowns {
   std::array<IntrinsicsVector, 2> intrinsics{};  // left, right

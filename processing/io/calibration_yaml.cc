@@ -248,10 +248,9 @@ std::string CalibrationToYaml(const Calibration& cal) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  // The lowest version that holds it, so that builds before the joint covariance read the rest.
   const int version = cal.stereo_precision.known && cal.stereo_precision.joint_covariance.size() > 0
                           ? kCalibrationSchemaVersion
-                          : 2;
+                          : kCalibrationSchemaWithoutJoint;
   out << YAML::Key << "schema_version" << YAML::Value << version;
   out << YAML::Key << "cameras" << YAML::Value << YAML::BeginMap;
   EmitCamera(out, "left", cal.rig.left, cal.left_precision);
@@ -288,7 +287,7 @@ std::string CameraCalibrationToYaml(const CameraIntrinsics& camera,
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "schema_version" << YAML::Value << 2;
+  out << YAML::Key << "schema_version" << YAML::Value << kCalibrationSchemaWithoutJoint;
   EmitCamera(out, "camera", camera, precision);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

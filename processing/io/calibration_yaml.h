@@ -48,6 +48,8 @@
 namespace ts {
 
 inline constexpr int kCalibrationSchemaVersion = 3;
+// What a file without stereo.joint_covariance is written as: builds before schema 3 read it.
+inline constexpr int kCalibrationSchemaWithoutJoint = 2;
 
 // Errors: "FILE: field.path: problem".
 Result<Calibration> LoadCalibrationYaml(const std::string& file);
