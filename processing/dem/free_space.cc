@@ -269,19 +269,6 @@ int FineRatio(const Raster& grid, const FreeSpaceOptions& o) {
   return std::max(1, static_cast<int>(std::lround(grid.cell_m / o.ceiling_cell_m)));
 }
 
-bool IsMismatch(const SightLine& line, const Raster& dem, const Raster& kriging_std,
-                const FreeSpaceOptions& o) {
-  bool under = false;
-  VisitLine(line, dem, 0.5 * dem.cell_m, dem.cell_m, o.end_sigmas, [&](const Eigen::Vector3d& q) {
-    const double ground = dem.Interpolate(q.x(), q.y());
-    const double sigma = kriging_std.Interpolate(q.x(), q.y());
-    under = std::isfinite(ground) && std::isfinite(sigma) &&
-            ground - q.z() > o.mismatch_sigmas * sigma + dem.cell_m;
-    return !under;
-  });
-  return under;
-}
-
 // A line's height over its camera per metre of run.
 double Rise(const SightLine& l) {
   const double run = (l.point - l.camera).head<2>().norm();
@@ -341,34 +328,14 @@ LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) 
 }
 
 // Per group, its lowest line (the near ground is matched densely, so this leaves a fraction of
-// the lines); with a kriging std, its lowest line that is no far mismatch, those before it
-// counted in `mismatched`.
+// the lines).
 std::vector<size_t> LowestLinePerSquare(const std::vector<SightLine>& lines,
-                                        const FreeSpaceOptions& o, const Raster& dem,
-                                        const Raster* kriging_std, int* mismatched) {
-  if (kriging_std && kriging_std->values.size() != dem.values.size())
-    throw std::invalid_argument("FindSightLineCeilings: the std grid differs from the DEM's");
+                                        const FreeSpaceOptions& o) {
   const LinesBySquare groups = GroupBySquare(lines, o.ceiling_cell_m);
-  const int count = static_cast<int>(groups.start.size()) - 1;
-  constexpr size_t kNoLine = std::numeric_limits<size_t>::max();
-  std::vector<size_t> chosen(count, kNoLine);
-  std::vector<int> dropped(count, 0);
-  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) {
-    for (int g = range.start; g < range.end; ++g)
-      for (size_t k = groups.start[g]; k < groups.start[g + 1]; ++k) {
-        const size_t i = groups.line[k];
-        if (!kriging_std || !lines[i].far || !IsMismatch(lines[i], dem, *kriging_std, o)) {
-          chosen[g] = i;
-          break;
-        }
-        ++dropped[g];
-      }
-  });
   std::vector<size_t> lowest;
-  for (int g = 0; g < count; ++g) {
-    if (chosen[g] != kNoLine) lowest.push_back(chosen[g]);
-    *mismatched += dropped[g];
-  }
+  lowest.reserve(groups.start.size());
+  for (size_t g = 0; g + 1 < groups.start.size(); ++g)
+    lowest.push_back(groups.line[groups.start[g]]);
   return lowest;
 }
 
@@ -484,13 +451,12 @@ constexpr double kMet = 1e-4;
 }  // namespace
 
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
-                                        const FreeSpaceOptions& o, const Raster* kriging_std) {
+                                        const FreeSpaceOptions& o) {
   std::string why;
   if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
   const int ratio = FineRatio(grid, o);
   SightLineCeilings out;
-  const std::vector<size_t> lowest =
-      LowestLinePerSquare(lines, o, grid, kriging_std, &out.mismatched);
+  const std::vector<size_t> lowest = LowestLinePerSquare(lines, o);
   std::vector<uint8_t> under(lines.size(), 0);
   const FineCeilings fine = WalkLines(lines, lowest, grid, ratio, o.end_sigmas, &under);
   for (const size_t i : lowest)

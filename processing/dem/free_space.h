@@ -43,7 +43,6 @@ struct FreeSpaceOptions {
   double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
   double ceiling_cell_m = 0.25;  // per square this wide, the lowest line and the nearest bind
   double tolerance_m = 0.0;      // a surface this far above a line is left alone
-  double mismatch_sigmas = 3.0;  // a line this far under the kriged ground (and a cell) is dropped
   double seen_ground_sigmas = 3.0;  // a line this far under seen ground went through it
   int seen_ground_witnesses = 2;    // in at least this many squares
   template <class Self, class V>
@@ -56,10 +55,6 @@ struct FreeSpaceOptions {
        0.05, 10});
     v("tolerance_m", self.tolerance_m,
       {"a surface this far above a line of sight is left alone", "m", 0, 10});
-    v("mismatch_sigmas", self.mismatch_sigmas,
-      {"a line of sight to a point beyond the square passing this many kriging sigmas (and a "
-       "cell) under the kriged ground is taken for a mismatch",
-       "", 0, 1000});
     v("seen_ground_sigmas", self.seen_ground_sigmas,
       {"a line of sight passing this many height sigmas (and a square's diagonal) under the "
        "ground points of a square went through seen ground",
@@ -71,24 +66,11 @@ struct FreeSpaceOptions {
   bool Check(std::string* why) const;
 };
 
-// A point beyond the ground the DEM is kriged from (`far`) has been judged by nothing but its
-// neighbours' heights, and its line can only cut. Where that line passes under the kriged
-// ground by more than mismatch_sigmas of the kriging std and a cell (on ground as steep as 45
-// degrees the bilinear surface of the cell centres stands a cell above ground a line grazed),
-// it is taken for a mismatch, not evidence: its point was matched behind the ground its camera
-// saw (a repeated texture 20-40 m under a hill, badlands seed 5), and its line would cut that
-// ground down to itself. Kriging bridges a riser hidden below a tread with a std of a metre or
-// more where it is far from the points, so the lines to the lower treads still bring it down.
-// The points near the square are the ground's own (blunder, object and ground filters), and
-// their lines are kept even where kriging is confident: a riser bridged at a few decimetres
-// is what free space is for.
-//
 // One seen point and the camera that saw it, in the DEM's frame.
 struct SightLine {
   Eigen::Vector3d camera = Eigen::Vector3d::Zero();
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   double range_sigma_m = 0.0;  // along the line
-  bool far = false;            // its point lies beyond the ground the DEM is kriged from
 };
 
 // The lowest lines of sight over the DEM's grid.
@@ -100,17 +82,14 @@ struct SightLineCeilings {
   std::vector<Ceiling> ceilings;  // one per ceiling_cell_m square a line passed over
   Raster per_cell;                // the lowest line over each DEM cell's square (nodata: none)
   Raster landing_per_cell;        // where that lowest line landed: the first ground seen past
-  int mismatched = 0;  // lines that would have counted, dropped as mismatches (kriging_std given)
   // The lines that passed under the grid they were found over: LowerBelowSightLines walks them
   // again over the DEM it lowered.
   std::vector<SightLine> under_grid;
 };
 
-// grid: the kriged DEM, before any line lowered it; with its kriging_std, the far lines that
-// pass under it as a mismatch would are dropped first.
+// grid: the kriged DEM, before any line lowered it.
 SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, const Raster& grid,
-                                        const FreeSpaceOptions& options,
-                                        const Raster* kriging_std = nullptr);
+                                        const FreeSpaceOptions& options);
 
 // A line of sight cannot pass under ground that was seen: its point was matched behind the
 // surface in front of it (a repeated texture 20 m under a hill, badlands seed 5), however

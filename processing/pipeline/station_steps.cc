@@ -19,7 +19,7 @@ namespace {
 // The line of sight from the left camera of a cloud point's pair to it, in L.
 SightLine SightLineOf(const StationWork& w, size_t i) {
   const CloudPoint& p = w.cloud[i];
-  SightLine line{w.viewpoints.at(p.pair), p.position_m, 0.0, w.point_class[i] == kOutsideDem};
+  SightLine line{w.viewpoints.at(p.pair), p.position_m, 0.0};
   const Eigen::Vector3d ray = (line.point - line.camera).normalized();
   line.range_sigma_m = std::sqrt(std::max(0.0, ray.dot(p.covariance_m2.cast<double>() * ray)));
   return line;
@@ -227,8 +227,8 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
   // objects (a trunk is solid; a point matched in front of the surface stops its line short
   // of the ground), and points beyond the neighbourhood (the line to a lower terrace 50 m
   // out passes over the riser before it). Only a point matched behind the surface would cut
-  // into it, by more than its range sigma; one beyond the neighbourhood is judged against the
-  // kriged ground (free_space.h).
+  // into it, by more than its range sigma; its line passes under ground other points saw, and
+  // RemovePointsSeenThroughGround has taken it out with its point.
   std::vector<SightLine> lines;
   lines.reserve(w->cloud.size());
   for (size_t i = 0; i < w->cloud.size(); ++i) {
@@ -240,11 +240,10 @@ bool KeepBelowSightLines(const ProcessOptions& o, StationWork* w, StepSummary* s
     }
     lines.push_back(line);
   }
-  w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space, &w->kriged.std);
+  w->ceilings = FindSightLineCeilings(lines, w->kriged.dem, o.free_space);
   const FreeSpaceResult lowered =
       LowerBelowSightLines(w->ceilings, o.free_space, &w->kriged.dem, &w->kriged.std);
   s->counts = {{"sight_lines", lines.size()},
-               {"mismatched_sight_lines", w->ceilings.mismatched},
                {"ceilings", w->ceilings.ceilings.size()},
                {"cells_lowered", lowered.cells_lowered},
                {"mean_lowering_m", lowered.mean_lowering_m},

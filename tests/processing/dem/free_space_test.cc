@@ -191,50 +191,6 @@ TEST(FreeSpace, OfOneCamerasLinesToASmallSquareTheOneThatRisesLeastIsKept) {
   EXPECT_LT(under.per_cell.at(9, 15), over.per_cell.at(9, 15));
 }
 
-// A mismatch: a point beyond the kriged ground, matched 40 m out and 10 m under level ground
-// that was kriged to 5 cm from points near it. Its line passes under that ground from 7 m out
-// on (1.5 m over 40 m against 10 m down), by up to 8 m: far more than 3 kriging sigmas and a
-// cell. Dropped, it cuts nothing; taken as evidence, it would cut the ground 8 m down. The same
-// line to a point of the kriged ground's own is kept.
-TEST(FreeSpace, AFarLineDeepUnderGroundKrigedNearItsPointsIsAMismatch) {
-  const Raster dem = Level(0.0);
-  Raster kriging_std = dem;
-  for (float& v : kriging_std.values) v = 0.05f;
-  const SightLine mismatch{{0.0, 0.0, kEye}, {40.0, 0.0, -10.0}, 0.3, true};
-  const SightLineCeilings judged = FindSightLineCeilings({mismatch}, dem, {}, &kriging_std);
-  EXPECT_EQ(judged.mismatched, 1);
-  EXPECT_TRUE(judged.ceilings.empty());
-  Raster cut = dem;
-  LowerBelowSightLines(FindSightLineCeilings({mismatch}, dem, {}), {}, &cut);
-  EXPECT_LT(cut.at(10, 30), -5.0f);
-  SightLine near = mismatch;
-  near.far = false;
-  const SightLineCeilings kept = FindSightLineCeilings({near}, dem, {}, &kriging_std);
-  EXPECT_EQ(kept.mismatched, 0);
-  EXPECT_EQ(kept.per_cell.values, FindSightLineCeilings({near}, dem, {}).per_cell.values);
-}
-
-// The far lines over a hollow that kriging bridged with 3 m of ground, 3 m from the points on
-// either rim (its std there 1 m): they pass under the bridge by up to 2.5 m (the line to the
-// field 20 m out is 0.49 m high 13.5 m out), within 3 sigmas and a cell. They are evidence,
-// and bring the bridge down as without the test. Under a bridge known to 5 cm they would
-// contradict seen ground, and those more than 1.15 m under it are dropped.
-TEST(FreeSpace, LinesUnderABridgeKrigedFarFromThePointsAreEvidence) {
-  Raster dem = Level(0.0);
-  Raster kriging_std = dem;
-  for (float& v : kriging_std.values) v = 0.05f;
-  for (int r = 0; r < dem.rows; ++r)
-    for (int c = 8; c < 14; ++c) dem.at(r, c) = 3.0f, kriging_std.at(r, c) = 1.0f;
-  std::vector<SightLine> lines = FieldLines(0.05);
-  for (SightLine& l : lines) l.far = true;
-  const SightLineCeilings judged = FindSightLineCeilings(lines, dem, {}, &kriging_std);
-  EXPECT_EQ(judged.mismatched, 0);
-  EXPECT_EQ(judged.per_cell.values, FindSightLineCeilings(lines, dem, {}).per_cell.values);
-  for (float& v : kriging_std.values) v = 0.05f;
-  const SightLineCeilings tight = FindSightLineCeilings(lines, dem, {}, &kriging_std);
-  EXPECT_EQ(tight.mismatched, static_cast<int>(lines.size()));
-}
-
 // Ground seen as points, four per quarter-metre square across y -2..2 with a height sigma of
 // 2 cm: level (z = 0) out to 10 m, a hump 0.5 m high 10-14 m out, the field 20-30 m out that
 // a camera 1.5 m up sees over it (the line to 20 m is 0.6 m high over 12 m). The ground just
