@@ -1,5 +1,6 @@
 #include "processing/dem/free_space.h"
 
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -275,17 +276,6 @@ double Rise(const SightLine& l) {
   return run > 0.0 ? (l.point.z() - l.camera.z()) / run : kNone;
 }
 
-// The lines grouped by camera and ceiling_cell_m square of their points' positions, each
-// group in the order its lines rise (their height over the camera per metre run): the lines of
-// one camera to the points of one small square run side by side, and the first is below the
-// others all along (to within the square's width). Not the line to the lowest point: above
-// the eye a farther point a little higher can lie under a lower, nearer one's line (a riser
-// seen from below). Line indices, and where each group starts (and, last, the end).
-struct LinesBySquare {
-  std::vector<size_t> line;
-  std::vector<size_t> start;
-};
-
 // Per line, its camera's and its point's square's key (-1: not a finite line).
 std::vector<int64_t> CameraSquareKeys(const std::vector<SightLine>& lines, double cell_m) {
   std::map<std::array<double, 3>, int64_t> cameras;
@@ -304,39 +294,15 @@ std::vector<int64_t> CameraSquareKeys(const std::vector<SightLine>& lines, doubl
   return key;
 }
 
-LinesBySquare GroupBySquare(const std::vector<SightLine>& lines, double cell_m) {
-  struct Keyed {
-    int64_t key;
-    double rise;
-    size_t index;
-  };
-  const std::vector<int64_t> key = CameraSquareKeys(lines, cell_m);
-  std::vector<Keyed> keyed;
-  keyed.reserve(lines.size());
+// The lines with a finite camera and point, every one: lines of one camera to the points of
+// one small square are not all under the one that rises least where the ground slopes across
+// them (terraces seed 2: a riser's face beside a lower tread, 0.13-0.19 m).
+std::vector<size_t> FiniteLines(const std::vector<SightLine>& lines) {
+  std::vector<size_t> finite;
+  finite.reserve(lines.size());
   for (size_t i = 0; i < lines.size(); ++i)
-    if (key[i] >= 0) keyed.push_back({key[i], Rise(lines[i]), i});
-  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
-    return std::tie(a.key, a.rise, a.index) < std::tie(b.key, b.rise, b.index);
-  });
-  LinesBySquare groups;
-  for (size_t k = 0; k < keyed.size(); ++k) {
-    if (k == 0 || keyed[k - 1].key != keyed[k].key) groups.start.push_back(k);
-    groups.line.push_back(keyed[k].index);
-  }
-  groups.start.push_back(keyed.size());
-  return groups;
-}
-
-// Per group, its lowest line (the near ground is matched densely, so this leaves a fraction of
-// the lines).
-std::vector<size_t> LowestLinePerSquare(const std::vector<SightLine>& lines,
-                                        const FreeSpaceOptions& o) {
-  const LinesBySquare groups = GroupBySquare(lines, o.ceiling_cell_m);
-  std::vector<size_t> lowest;
-  lowest.reserve(groups.start.size());
-  for (size_t g = 0; g + 1 < groups.start.size(); ++g)
-    lowest.push_back(groups.line[groups.start[g]]);
-  return lowest;
+    if (lines[i].point.allFinite() && lines[i].camera.allFinite()) finite.push_back(i);
+  return finite;
 }
 
 // Per ceiling_cell_m square over the ground points' extent: the second lowest point's height
@@ -456,10 +422,10 @@ SightLineCeilings FindSightLineCeilings(const std::vector<SightLine>& lines, con
   if (!o.Check(&why)) throw std::invalid_argument("FreeSpaceOptions: " + why);
   const int ratio = FineRatio(grid, o);
   SightLineCeilings out;
-  const std::vector<size_t> lowest = LowestLinePerSquare(lines, o);
+  const std::vector<size_t> walked = FiniteLines(lines);
   std::vector<uint8_t> under(lines.size(), 0);
-  const FineCeilings fine = WalkLines(lines, lowest, grid, ratio, o.end_sigmas, &under);
-  for (const size_t i : lowest)
+  const FineCeilings fine = WalkLines(lines, walked, grid, ratio, o.end_sigmas, &under);
+  for (const size_t i : walked)
     if (under[i]) out.under_grid.push_back(lines[i]);
   out.per_cell = Raster::Make(grid.min_x_m, grid.max_y_m, grid.cell_m, grid.cols, grid.rows);
   out.per_cell.crs_wkt = grid.crs_wkt;
