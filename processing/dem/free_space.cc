@@ -1,6 +1,5 @@
 #include "processing/dem/free_space.h"
 
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>

@@ -40,9 +40,9 @@ namespace ts {
 
 struct FreeSpaceOptions {
   bool enabled = true;
-  double end_sigmas = 2.0;       // a line stops this many range sigmas short of its point
-  double ceiling_cell_m = 0.25;  // per square this wide, the lowest line and the nearest bind
-  double tolerance_m = 0.0;      // a surface this far above a line is left alone
+  double end_sigmas = 2.0;          // a line stops this many range sigmas short of its point
+  double ceiling_cell_m = 0.25;     // per square this wide, the lowest line and the nearest bind
+  double tolerance_m = 0.0;         // a surface this far above a line is left alone
   double seen_ground_sigmas = 3.0;  // a line this far under seen ground went through it
   int seen_ground_witnesses = 2;    // in at least this many squares
   template <class Self, class V>

@@ -314,8 +314,8 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
   for (int i = 0; i < n; ++i) e.noise_variance += solution[i] * solution[i] * nugget[near[i].index];
   if (measured)
     for (int i = 0; i < n; ++i)
-      e.noise_variance -= solution[i] * solution[i] *
-                          (nugget[near[i].index] - (*measured)[near[i].index]);
+      e.noise_variance -=
+          solution[i] * solution[i] * (nugget[near[i].index] - (*measured)[near[i].index]);
   if (!matches.empty()) {
     const double shared = SharedNoiseVariance(near, solution, nugget, matches);
     e.variance += shared;
@@ -413,16 +413,16 @@ std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_poi
       const int i = held[k];
       const HeldOut out{matches.empty() ? nullptr : &matches[i], nugget[i], i};
       const Eigen::Vector3d& p = points[i];
-      const std::optional<Estimate> e = KrigeAt(grid, points, nugget, matches, model, o, p.x(),
-                                                p.y(), &search, out,
-                                                measured.empty() ? nullptr : &measured);
+      const std::optional<Estimate> e =
+          KrigeAt(grid, points, nugget, matches, model, o, p.x(), p.y(), &search, out,
+                  measured.empty() ? nullptr : &measured);
       if (!e) continue;
       // The held-out point's own noise, less what it shares with the neighbours predicting it.
       const double own = measured.empty() ? nugget[i] : measured[i];
       const double noise = e->noise_variance + own - 2.0 * e->held_out_covariance;
-      tests[k] = HeldOutTest{p.x(), p.y(), (e->z - p.z()) * (e->z - p.z()),
-                             e->variance - e->noise_variance + (nugget[i] - own),
-                             std::max(noise, 0.0)};
+      tests[k] =
+          HeldOutTest{p.x(), p.y(), (e->z - p.z()) * (e->z - p.z()),
+                      e->variance - e->noise_variance + (nugget[i] - own), std::max(noise, 0.0)};
     }
   });
   std::vector<HeldOutTest> done;
