@@ -64,24 +64,21 @@ class CameraPrior : public ceres::CostFunction {
   std::vector<int> first_, free_;
 };
 
-// A block's parameters with a variance (the free ones) and those without (held), and the
-// Cholesky factor of the free ones' covariance.
+// A block's parameters with a variance (the free ones) and those without (held), as indices in
+// the list (rig_cameras.h's) and in the block.
 struct BlockPrecision {
-  std::vector<int> free, held;
-  Eigen::LLT<Eigen::MatrixXd> llt;
+  std::vector<int> free, held_in_block;
 };
 
 BlockPrecision BlockPrecisionOf(const Eigen::MatrixXd& prior, int b) {
   BlockPrecision p;
-  for (int i = 0; i < kCameraBlockSize[b]; ++i)
-    (prior(kCameraBlockFirst[b] + i, kCameraBlockFirst[b] + i) > 0.0 ? p.free : p.held)
-        .push_back(i);
-  const int n = static_cast<int>(p.free.size());
-  Eigen::MatrixXd covariance(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < n; ++k)
-      covariance(i, k) = prior(kCameraBlockFirst[b] + p.free[i], kCameraBlockFirst[b] + p.free[k]);
-  p.llt.compute(covariance);
+  for (int i = 0; i < kCameraBlockSize[b]; ++i) {
+    const int k = kCameraBlockFirst[b] + i;
+    if (prior(k, k) > 0.0)
+      p.free.push_back(k);
+    else
+      p.held_in_block.push_back(i);
+  }
   return p;
 }
 
@@ -169,7 +166,8 @@ Status CheckCamerasRefinable(const Calibration& calibration) {
                    ": no precision (sigma, covariance) to weigh it by, as calibrate camera and "
                    "calibrate stereo write it: the cameras cannot be refined (design values?)"};
     const BlockPrecision p = BlockPrecisionOf(prior, b);
-    if (!p.free.empty() && p.llt.info() != Eigen::Success)
+    if (!p.free.empty() &&
+        Eigen::LLT<Eigen::MatrixXd>(prior(p.free, p.free)).info() != Eigen::Success)
       return Error{std::string(kBlockField[b]) +
                    ".covariance: not positive definite: the cameras cannot be refined"};
   }
@@ -202,9 +200,10 @@ Status AddCameraPriors(const Calibration& calibration, bool refine, RigCameraUnk
     }
     present.push_back(blocks[b]);
     first.push_back(kCameraBlockFirst[b]);
-    for (int i : p.free) free.push_back(kCameraBlockFirst[b] + i);
-    if (!p.held.empty())
-      problem->SetManifold(blocks[b], new ceres::SubsetManifold(kCameraBlockSize[b], p.held));
+    free.insert(free.end(), p.free.begin(), p.free.end());
+    if (!p.held_in_block.empty())
+      problem->SetManifold(blocks[b],
+                           new ceres::SubsetManifold(kCameraBlockSize[b], p.held_in_block));
   }
   if (present.empty()) return {};
   const int n = static_cast<int>(free.size());
