@@ -18,6 +18,7 @@ GroundFilterOptions GroundFilterOptions::ForTripod() {
   // were cut as objects with less).
   g.elevation_scaler = g.cell_m;
   g.slope = 0.08;
+  g.slope_from_terrain = true;
   return g;
 }
 
@@ -89,6 +90,24 @@ cv::Mat ContinuedPastBorders(const cv::Mat& surface, int pad) {
   return tall;
 }
 
+// Per cell of `surface` (padded as the opening sees it), the steepest rise over run an opening
+// may lower it by without taking it for an object: `slope`, or the terrain's regional gradient
+// where that is steeper (ground_filter.h).
+cv::Mat SlopeAllowance(const cv::Mat& surface, int max_radius, const GroundFilterOptions& o) {
+  cv::Mat allowance(surface.size(), CV_32FC1, cv::Scalar(static_cast<float>(o.slope)));
+  if (!o.slope_from_terrain) return allowance;
+  const int width = 2 * max_radius + 1;
+  cv::Mat terrain, gx, gy, gradient;
+  cv::morphologyEx(surface, terrain, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(width, width)),
+                   cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  cv::blur(terrain, terrain, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  cv::Sobel(terrain, gx, CV_32F, 1, 0, 3, 1.0 / (8.0 * o.cell_m), 0, cv::BORDER_REPLICATE);
+  cv::Sobel(terrain, gy, CV_32F, 0, 1, 3, 1.0 / (8.0 * o.cell_m), 0, cv::BORDER_REPLICATE);
+  cv::magnitude(gx, gy, gradient);
+  return cv::max(allowance, gradient);
+}
+
 }  // namespace
 
 GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
@@ -123,13 +142,13 @@ GroundFilterResult FilterGround(const std::vector<Eigen::Vector3d>& points,
   const int pad = std::min(max_radius, std::min(grid.rows(), grid.cols()) - 1);
   const cv::Rect inside(pad, pad, grid.cols(), grid.rows());
   cv::Mat last = ContinuedPastBorders(surface, pad), opened;
+  const cv::Mat allowance = SlopeAllowance(last, max_radius, o)(inside);
   for (int radius = 1; radius <= max_radius; ++radius) {
     const cv::Mat disk =
         cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
     cv::morphologyEx(last, opened, cv::MORPH_OPEN, disk, cv::Point(-1, -1), 1,
                      cv::BORDER_REPLICATE);
-    const float threshold = static_cast<float>(o.slope * radius * o.cell_m);
-    object.setTo(1, (last(inside) - opened(inside)) > threshold);
+    object.setTo(1, (last(inside) - opened(inside)) > allowance * (radius * o.cell_m));
     std::swap(last, opened);
   }
 
