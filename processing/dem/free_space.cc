@@ -10,7 +10,6 @@
 #include <numeric>
 #include <opencv2/core.hpp>
 #include <stdexcept>
-#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>

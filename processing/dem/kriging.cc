@@ -214,10 +214,11 @@ std::vector<double> NuggetsOf(const KrigingPoints& points, const VariogramModel&
   return nugget;
 }
 
-// Each point's measured noise variance (its own, from the intersection; none for the surveyed
-// points), where the points carry one; else empty.
-std::vector<double> MeasuredVariances(const KrigingPoints& points) {
-  if (points.height_variances_m2.empty()) return {};
+// Each point's own noise variance: the measured one (from the intersection; none for the
+// surveyed points) where the points carry one, else its nugget.
+std::vector<double> OwnNoiseVariances(const KrigingPoints& points,
+                                      const std::vector<double>& nugget) {
+  if (points.height_variances_m2.empty()) return nugget;
   std::vector<double> v(points.positions.size() + points.surveyed.size(), 0.0);
   std::copy(points.height_variances_m2.begin(), points.height_variances_m2.end(), v.begin());
   return v;
@@ -225,8 +226,7 @@ std::vector<double> MeasuredVariances(const KrigingPoints& points) {
 
 struct Estimate {
   double z = 0.0, variance = 0.0;
-  // The part of variance that is the points' own noise: their measured variances where given
-  // (KrigeAt's `measured`), else their nuggets.
+  // The part of variance that is the points' own noise (OwnNoiseVariances).
   double noise_variance = 0.0;
   // With a held-out point at (x, y): the covariance of the estimate's error with its noise, the
   // weighted share of image noise it has with the neighbours.
@@ -268,10 +268,10 @@ std::vector<PointMatch> MatchesOfAll(const KrigingPoints& points) {
 // The kriged surface at (x, y), or none where the nearest point is beyond max_distance_m.
 std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::Vector3d>& points,
                                 const std::vector<double>& nugget,
+                                const std::vector<double>& own_noise,
                                 const std::vector<PointMatch>& matches, const VariogramModel& model,
                                 const KrigingOptions& o, double x, double y,
-                                NeighbourSearch* search, HeldOut held_out = {},
-                                const std::vector<double>* measured = nullptr) {
+                                NeighbourSearch* search, HeldOut held_out = {}) {
   const std::vector<Candidate>& near = search->near;
   FindNeighbours(grid, points, x, y, o.neighbours, o.search_radius_m, search, held_out.index);
   if (near.empty() || near.front().distance > o.max_distance_m) return std::nullopt;
@@ -311,11 +311,8 @@ std::optional<Estimate> KrigeAt(const GridIndex& grid, const std::vector<Eigen::
   Estimate e;
   for (int i = 0; i < n; ++i) e.z += solution[i] * points[near[i].index].z();
   e.variance = model.partial_sill - solution.head(n).dot(b.head(n)) - solution[n];
-  for (int i = 0; i < n; ++i) e.noise_variance += solution[i] * solution[i] * nugget[near[i].index];
-  if (measured)
-    for (int i = 0; i < n; ++i)
-      e.noise_variance -=
-          solution[i] * solution[i] * (nugget[near[i].index] - (*measured)[near[i].index]);
+  for (int i = 0; i < n; ++i)
+    e.noise_variance += solution[i] * solution[i] * own_noise[near[i].index];
   if (!matches.empty()) {
     const double shared = SharedNoiseVariance(near, solution, nugget, matches);
     e.variance += shared;
@@ -353,14 +350,14 @@ void KrigeCells(const KrigingPoints& kriging_points, const VariogramModel& model
   if (noise_variance) noise_variance->assign(dem->values.size(), 0.0);
   if (points.empty()) return;
   const GridIndex grid(points, std::max(0.5, o.max_distance_m / 2));
-  const std::vector<double> measured = MeasuredVariances(kriging_points);
+  const std::vector<double> own_noise = OwnNoiseVariances(kriging_points, nugget);
   cv::parallel_for_(cv::Range(0, dem->rows), [&](const cv::Range& rows) {
     NeighbourSearch search;
     for (int row = rows.start; row < rows.end; ++row)
       for (int col = 0; col < dem->cols; ++col) {
         const std::optional<Estimate> e =
-            KrigeAt(grid, points, nugget, matches, model, o, dem->CellCentreX(col),
-                    dem->CellCentreY(row), &search, {}, measured.empty() ? nullptr : &measured);
+            KrigeAt(grid, points, nugget, own_noise, matches, model, o, dem->CellCentreX(col),
+                    dem->CellCentreY(row), &search);
         if (!e) continue;
         dem->at(row, col) = static_cast<float>(e->z);
         std_dev->at(row, col) = static_cast<float>(std::sqrt(e->variance));
@@ -406,7 +403,7 @@ std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_poi
     if (i >= 0) held.push_back(i);
   std::vector<std::optional<HeldOutTest>> tests(held.size());
   const GridIndex grid(points, std::max(0.5, o.max_distance_m / 2));
-  const std::vector<double> measured = MeasuredVariances(kriging_points);
+  const std::vector<double> own_noise = OwnNoiseVariances(kriging_points, nugget);
   cv::parallel_for_(cv::Range(0, static_cast<int>(held.size())), [&](const cv::Range& range) {
     NeighbourSearch search;
     for (int k = range.start; k < range.end; ++k) {
@@ -414,11 +411,10 @@ std::vector<HeldOutTest> HoldOutOnePointPerCell(const KrigingPoints& kriging_poi
       const HeldOut out{matches.empty() ? nullptr : &matches[i], nugget[i], i};
       const Eigen::Vector3d& p = points[i];
       const std::optional<Estimate> e =
-          KrigeAt(grid, points, nugget, matches, model, o, p.x(), p.y(), &search, out,
-                  measured.empty() ? nullptr : &measured);
+          KrigeAt(grid, points, nugget, own_noise, matches, model, o, p.x(), p.y(), &search, out);
       if (!e) continue;
       // The held-out point's own noise, less what it shares with the neighbours predicting it.
-      const double own = measured.empty() ? nugget[i] : measured[i];
+      const double own = own_noise[i];
       const double noise = e->noise_variance + own - 2.0 * e->held_out_covariance;
       tests[k] =
           HeldOutTest{p.x(), p.y(), (e->z - p.z()) * (e->z - p.z()),
@@ -567,8 +563,9 @@ std::vector<CrossValidationScore> BlockCrossValidationScores(
             const double nugget = held_out_nuggets[m][predicted_points[k]];
             const HeldOut held_out{
                 points.matches.empty() ? nullptr : &points.matches[predicted_points[k]], nugget};
-            const std::optional<Estimate> e = KrigeAt(grid, all, nuggets[m], matches, models[m], o,
-                                                      p.x(), p.y(), &search, held_out);
+            const std::optional<Estimate> e =
+                KrigeAt(grid, all, nuggets[m], nuggets[m], matches, models[m], o, p.x(), p.y(),
+                        &search, held_out);
             if (!e) continue;
             error2[k * kinds + m] = (e->z - p.z()) * (e->z - p.z());
             // The held-out point's noise, less what it shares with the neighbours predicting it.
